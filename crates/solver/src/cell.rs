@@ -1,0 +1,80 @@
+//! One cell's fields (phi, P) with the integrals the next step needs, and how cells advance.
+
+use crate::fibers::Fibers;
+use crate::kernel::{step_cell, StepCoeffs, Sums};
+use crate::lattice::Lattice;
+use crate::params::Params;
+
+/// A cell on a lattice: phase field, polarity, and S / Ad of the current phi.
+#[derive(Debug, Clone)]
+pub struct Cell {
+    pub phi: Vec<f64>,
+    pub p: Vec<f64>,
+    pub sums: Sums,
+    /// Buffer for phi(t + dt).
+    next: Vec<f64>,
+}
+
+impl Cell {
+    pub fn new(lat: &Lattice, fibers: &Fibers, phi: Vec<f64>, p: Vec<f64>) -> Self {
+        assert_eq!(phi.len(), lat.len());
+        assert_eq!(p.len(), lat.len());
+        Cell {
+            sums: Sums::of(lat, fibers, &phi),
+            next: lat.zeros(),
+            phi,
+            p,
+        }
+    }
+
+    /// Advance this cell alone by one step (single-cell stages).
+    pub fn step(
+        &mut self,
+        lat: &Lattice,
+        fibers: &Fibers,
+        params: &Params,
+        noise: [f64; 2],
+        motile: bool,
+    ) {
+        let k = StepCoeffs::new(params, &self.sums, noise, motile);
+        self.sums = step_cell(
+            lat,
+            fibers,
+            &k,
+            &self.phi,
+            &mut self.p,
+            None,
+            &mut self.next,
+        );
+        std::mem::swap(&mut self.phi, &mut self.next);
+    }
+}
+
+/// Advance two interacting cells by one step; both right-hand sides use the fields at time t.
+/// With `parallel` the two cells are computed on two threads (same result: each cell's update
+/// is independent of the other's).
+pub fn step_pair(
+    a: &mut Cell,
+    b: &mut Cell,
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+    noise: [[f64; 2]; 2],
+    parallel: bool,
+) {
+    let ka = StepCoeffs::new(params, &a.sums, noise[0], true);
+    let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
+    let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
+    let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
+    let mut run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a);
+    let mut run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b);
+    let (sa, sb) = if parallel {
+        rayon::join(run_a, run_b)
+    } else {
+        (run_a(), run_b())
+    };
+    a.sums = sa;
+    b.sums = sb;
+    std::mem::swap(&mut a.phi, &mut a.next);
+    std::mem::swap(&mut b.phi, &mut b.next);
+}

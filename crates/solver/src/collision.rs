@@ -1,0 +1,177 @@
+//! Stage 5: the collision of a prepped cell with its mirror image (SPEC sections 4 and 5).
+
+use serde::{Deserialize, Serialize};
+
+use crate::cell::{step_pair, Cell};
+use crate::classifier::{Classifier, ClassifierSettings, Decision, Outcome};
+use crate::error::SolverError;
+use crate::fibers::Fibers;
+use crate::kernel::Sums;
+use crate::lattice::Lattice;
+use crate::monitor::{Monitor, Stage};
+use crate::noise::Noise;
+use crate::observables::{overlap, Attachment};
+use crate::params::Params;
+use crate::prep::Prep;
+use crate::protocol::Protocol;
+
+/// Observables of both cells at one time (SPEC section 5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Time since the collision started (tau0).
+    pub t: f64,
+    /// Periodic centroids along x.
+    pub xbar: [f64; 2],
+    /// Centroids along x unwrapped in time (continuous).
+    pub x: [f64; 2],
+    pub ybar: [f64; 2],
+    /// S = sum phi^2 of each cell.
+    pub area: [f64; 2],
+    /// O = sum phi_1 phi_2.
+    pub overlap: f64,
+    /// Adhesive area of each cell on [bottom, top] fiber.
+    pub adhesive: [[f64; 2]; 2],
+}
+
+/// What happened in one collision.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Collision {
+    pub outcome: Outcome,
+    /// When the outcome was decided (tau0), `None` if undetermined.
+    pub decision_time: Option<f64>,
+    /// First contact (tau0), `None` if the cells never touched.
+    pub contact_time: Option<f64>,
+    /// Each cell's fiber attachment at the decision (or at the end of the run).
+    pub attachment: [Attachment; 2],
+    pub threshold_speed: f64,
+    /// Steps run (fewer than the protocol's when stopped early).
+    pub steps: u64,
+    pub track: Vec<Sample>,
+}
+
+/// The two cells of the collision on the pair lattice: the prepped fields shifted along x by
+/// floor((Nx_s - 1)/2 - xbar + 1/2) sites in their Nx_s-wide box so the cell sits mid-box, cell 1
+/// in columns 0..Nx_s (zero beyond), cell 2 its mirror image phi_2(i, j) = phi_1(Nx_p - 1 - i, j).
+pub fn place_pair(prep: &Prep, pair_nx: usize) -> [(Vec<f64>, Vec<f64>); 2] {
+    let [snx, ny] = prep.lattice;
+    let single = Lattice::new(snx, ny);
+    let xbar = single.centroid_x(&prep.phi);
+    let centre = (snx as f64 - 1.0) / 2.0;
+    let shift = (centre - xbar + 0.5).floor() as i64;
+    let n = pair_nx * ny;
+    let (mut phi1, mut p1) = (vec![0.0; n], vec![0.0; n]);
+    for j in 0..ny {
+        for i in 0..snx {
+            let src = (i as i64 - shift).rem_euclid(snx as i64) as usize;
+            phi1[j * pair_nx + i] = prep.phi[j * snx + src];
+            p1[j * pair_nx + i] = prep.p[j * snx + src];
+        }
+    }
+    let mirror = |f: &[f64]| {
+        let mut m = vec![0.0; n];
+        for j in 0..ny {
+            for i in 0..pair_nx {
+                m[j * pair_nx + i] = f[j * pair_nx + (pair_nx - 1 - i)];
+            }
+        }
+        m
+    };
+    let (phi2, p2) = (mirror(&phi1), mirror(&p1));
+    [(phi1, p1), (phi2, p2)]
+}
+
+fn sample(lat: &Lattice, t: f64, a: &Cell, b: &Cell, x: [f64; 2]) -> Sample {
+    Sample {
+        t,
+        xbar: [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)],
+        x,
+        ybar: [lat.centroid_y(&a.phi), lat.centroid_y(&b.phi)],
+        area: [a.sums.area, b.sums.area],
+        overlap: overlap(&a.phi, &b.phi),
+        adhesive: [a.sums.adhesive, b.sums.adhesive],
+    }
+}
+
+/// Run the collision of `prep` (whose verdict should be `ok`) with noise from `seed`.
+pub fn collide(
+    params: &Params,
+    protocol: &Protocol,
+    settings: &ClassifierSettings,
+    prep: &Prep,
+    seed: u64,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+) -> Result<Collision, SolverError> {
+    let steps = protocol.validate(params)?;
+    if prep.lattice != protocol.single_lattice
+        || prep.phi.len() != prep.lattice[0] * prep.lattice[1]
+    {
+        return Err(SolverError::PrepMismatch {
+            nx: protocol.single_lattice[0],
+            ny: protocol.single_lattice[1],
+        });
+    }
+    let [nx, ny] = protocol.pair_lattice;
+    let lat = Lattice::new(nx, ny);
+    let fibers = Fibers::new(params, ny);
+    let [(phi1, p1), (phi2, p2)] = place_pair(prep, nx);
+    let mut a = Cell::new(&lat, &fibers, phi1, p1);
+    let mut b = Cell::new(&lat, &fibers, phi2, p2);
+
+    let mut classifier = Classifier::new(settings, prep.free_speed.unwrap_or(0.0), params.R0);
+    let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
+    let mut xbar = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
+    let mut x = xbar;
+    let first = sample(&lat, 0.0, &a, &b, x);
+    let mut decision: Option<Decision> = classifier.observe(0.0, x[0], x[1], first.overlap);
+    let mut at_decision: [Sums; 2] = [a.sums, b.sums];
+    let mut track = vec![first];
+
+    monitor.stage(Stage::Collide, steps.collide);
+    let mut done = 0;
+    for s in 0..steps.collide {
+        if decision.is_some() && protocol.stop_early {
+            break;
+        }
+        let nz = noise.at(s);
+        let nz = [nz[0], nz[1]];
+        step_pair(&mut a, &mut b, &lat, &fibers, params, nz, parallel);
+        let n = s + 1;
+        done = n;
+        let t = n as f64 * params.dt;
+        if !(a.sums.area.is_finite() && b.sums.area.is_finite()) {
+            return Err(SolverError::Diverged { time: t });
+        }
+        if n % steps.record_every == 0 || n == steps.collide {
+            let now = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
+            for c in 0..2 {
+                x[c] += lat.wrap_dx(xbar[c], now[c]);
+            }
+            xbar = now;
+            let smp = sample(&lat, t, &a, &b, x);
+            if decision.is_none() {
+                decision = classifier.observe(t, x[0], x[1], smp.overlap);
+                if decision.is_some() {
+                    at_decision = [a.sums, b.sums];
+                }
+            }
+            track.push(smp);
+            monitor.advance(n);
+        }
+    }
+    if decision.is_none() {
+        at_decision = [a.sums, b.sums];
+    }
+    Ok(Collision {
+        outcome: decision.map_or(Outcome::Undetermined, |d| d.outcome),
+        decision_time: decision.map(|d| d.time),
+        contact_time: classifier.contact_time(),
+        attachment: [
+            Attachment::of(&fibers, &at_decision[0]),
+            Attachment::of(&fibers, &at_decision[1]),
+        ],
+        threshold_speed: classifier.threshold_speed(),
+        steps: done,
+        track,
+    })
+}

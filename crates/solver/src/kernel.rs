@@ -1,0 +1,320 @@
+//! The fused explicit step of one cell (SPEC section 3).
+//!
+//! One pass over the lattice computes, per site, the stencils, the chemical potential mu, the
+//! advection term v . grad(phi), the phi and P updates, and accumulates the next step's area
+//! S = sum phi^2 and adhesive areas Ad = sum phi^2 (3 - 2 phi) chi. No full-lattice temporaries.
+//!
+//! The loop is specialised per row (fiber row or not: chi is constant along a row) and per stage
+//! (single cell, or pair with the other cell's phi). Reductions use a fixed set of lanes, so the
+//! result does not depend on the instruction set: the AVX2 build of the same code, chosen at run
+//! time, is bit-identical to the portable one (Rust never contracts a*b+c into an FMA).
+
+use crate::fibers::Fibers;
+use crate::lattice::Lattice;
+use crate::params::Params;
+use std::f64::consts::PI;
+
+/// Integrals of one cell's phi that the next step needs: S = sum phi^2 and, per fiber,
+/// Ad = sum phi^2 (3 - 2 phi) chi.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Sums {
+    pub area: f64,
+    /// Adhesive area on the bottom fiber (index 0) and the top fiber (index 1; 0 with one fiber).
+    pub adhesive: [f64; 2],
+}
+
+impl Sums {
+    /// Total adhesive area Ad (both fibers).
+    pub fn adhesive_total(&self) -> f64 {
+        self.adhesive[0] + self.adhesive[1]
+    }
+
+    /// The sums of a field, accumulated in the same order as the kernel does.
+    pub fn of(lat: &Lattice, fibers: &Fibers, phi: &[f64]) -> Sums {
+        let mut sums = Sums::default();
+        for (j, row) in phi.chunks_exact(lat.nx).enumerate() {
+            match fibers.of_row(j) {
+                Some(f) => {
+                    let (a, ad) = row_sums::<true>(row);
+                    sums.area += a;
+                    sums.adhesive[f as usize] += ad;
+                }
+                None => sums.area += row_sums::<false>(row).0,
+            }
+        }
+        sums
+    }
+}
+
+/// Coefficients of one cell's step, constant over the lattice.
+#[derive(Debug, Clone, Copy)]
+pub struct StepCoeffs {
+    alpha: f64,
+    /// d^2 / 2
+    half_d2: f64,
+    /// 4 lambda / (pi R0^2) (1 - S / (pi R0^2)): the area term is -area * phi.
+    area: f64,
+    /// 6 E0 A_ref / (A_ref + Ad)^2: the fiber term is -fiber * phi (1 - phi) chi.
+    fiber: f64,
+    two_g: f64,
+    two_sigma: f64,
+    a_over_eta: f64,
+    inv_eta: f64,
+    inv_gamma: f64,
+    dt: f64,
+    beta: f64,
+    inv_tau: f64,
+    phi_min: f64,
+    /// Uniform velocity noise (vx, vy) of this cell at this step.
+    noise: [f64; 2],
+    /// Whether the motility force acts (not during relaxation).
+    motile: bool,
+}
+
+impl StepCoeffs {
+    /// Coefficients for a cell with integrals `sums`, noise `noise`, and the motility force on
+    /// or off.
+    pub fn new(p: &Params, sums: &Sums, noise: [f64; 2], motile: bool) -> Self {
+        let a0 = PI * p.R0 * p.R0;
+        let ad = sums.adhesive_total();
+        StepCoeffs {
+            alpha: p.alpha,
+            half_d2: p.d * p.d / 2.0,
+            area: 4.0 * p.lambda / a0 * (1.0 - sums.area / a0),
+            fiber: 6.0 * p.E0 * p.A_ref / ((p.A_ref + ad) * (p.A_ref + ad)),
+            two_g: 2.0 * p.g,
+            two_sigma: 2.0 * p.sigma,
+            a_over_eta: if motile { p.A / p.eta } else { 0.0 },
+            inv_eta: 1.0 / p.eta,
+            inv_gamma: p.inv_gamma,
+            dt: p.dt,
+            beta: p.beta,
+            inv_tau: 1.0 / p.tau,
+            phi_min: p.phi_min,
+            noise,
+            motile,
+        }
+    }
+}
+
+/// One site: returns (phi(t+dt), P(t+dt)).
+///
+/// `c` is phi at the site, `e w n s` its four neighbours, `p` the polarity, `pj` the other
+/// cell's phi (pair stage only).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn site<const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs,
+    c: f64,
+    e: f64,
+    w: f64,
+    n: f64,
+    s: f64,
+    p: f64,
+    pj: f64,
+) -> (f64, f64) {
+    // lap(phi) and the central gradient.
+    let lap = e + w + n + s - 4.0 * c;
+    let gx = 0.5 * (e - w);
+    let gy = 0.5 * (n - s);
+    // phi^3 - 1.5 phi^2 + 0.5 phi, in Horner form.
+    let poly = c * (c * (c - 1.5) + 0.5);
+    // mu = alpha (poly - d^2/2 lap) - 4 lambda phi/(pi R0^2) (1 - S/(pi R0^2)) ...
+    let mut mu = k.alpha * (poly - k.half_d2 * lap) - k.area * c;
+    if FIBER {
+        // ... - 6 E0 A_ref phi (1 - phi) chi / (A_ref + Ad)^2 ...
+        mu -= k.fiber * c * (1.0 - c);
+    }
+    if PAIR {
+        // ... + 2 g phi phi_j^2 - 2 sigma poly phi_j^2 (1 - phi_j)^2.
+        let h = pj * (1.0 - pj);
+        mu += k.two_g * c * (pj * pj) - k.two_sigma * poly * (h * h);
+    }
+    let g2 = gx * gx + gy * gy;
+    // v . grad(phi) = (mu |grad phi|^2 - A P phi^2 (1-phi)^2 chi |grad phi|) / eta + vnoise . grad phi
+    let mut vgrad = mu * g2 * k.inv_eta + (k.noise[0] * gx + k.noise[1] * gy);
+    if FIBER {
+        let b = c * (1.0 - c);
+        vgrad -= k.a_over_eta * p * (b * b) * g2.sqrt();
+    }
+    // dphi/dt = -(v . grad phi + mu / gamma)
+    let dphi = -(vgrad + k.inv_gamma * mu);
+    let phi_new = c + k.dt * dphi;
+    // P(t+dt) = (P + dt (beta phi dphi - P / tau)) [phi(t) > phi_min]
+    let p_new = if c > k.phi_min {
+        p + k.dt * (k.beta * c * dphi - p * k.inv_tau)
+    } else {
+        0.0
+    };
+    (phi_new, p_new)
+}
+
+/// Number of independent accumulators in the reductions (fixed: results do not depend on the
+/// SIMD width).
+const LANES: usize = 8;
+
+/// (sum phi^2, sum phi^2 (3 - 2 phi)) of one row; the second only if `FIBER`.
+#[inline(always)]
+fn row_sums<const FIBER: bool>(row: &[f64]) -> (f64, f64) {
+    let mut area = [0.0; LANES];
+    let mut adh = [0.0; LANES];
+    let chunks = row.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for l in 0..LANES {
+            let v = chunk[l];
+            let v2 = v * v;
+            area[l] += v2;
+            if FIBER {
+                adh[l] += v2 * (3.0 - 2.0 * v);
+            }
+        }
+    }
+    for (l, &v) in rest.iter().enumerate() {
+        area[l] += v * v;
+        if FIBER {
+            adh[l] += v * v * (3.0 - 2.0 * v);
+        }
+    }
+    (lanes_sum(&area), lanes_sum(&adh))
+}
+
+#[inline(always)]
+fn lanes_sum(a: &[f64; LANES]) -> f64 {
+    ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))
+}
+
+/// One row of the step: reads phi rows `c` (this row), `up` (j+1), `dn` (j-1), the other cell's
+/// row `pj` (ignored unless `PAIR`), updates `p` in place and writes phi(t+dt) into `out`.
+#[inline(always)]
+fn step_row<const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs,
+    c: &[f64],
+    up: &[f64],
+    dn: &[f64],
+    pj: &[f64],
+    p: &mut [f64],
+    out: &mut [f64],
+) {
+    let n = c.len();
+    let (up, dn, pj, p, out) = (&up[..n], &dn[..n], &pj[..n], &mut p[..n], &mut out[..n]);
+    // Periodic edges in x.
+    let (a, b) = site::<FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
+    out[0] = a;
+    p[0] = b;
+    for i in 1..n - 1 {
+        let (a, b) = site::<FIBER, PAIR>(k, c[i], c[i + 1], c[i - 1], up[i], dn[i], p[i], pj[i]);
+        out[i] = a;
+        p[i] = b;
+    }
+    let (a, b) = site::<FIBER, PAIR>(
+        k,
+        c[n - 1],
+        c[0],
+        c[n - 2],
+        up[n - 1],
+        dn[n - 1],
+        p[n - 1],
+        pj[n - 1],
+    );
+    out[n - 1] = a;
+    p[n - 1] = b;
+}
+
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn step_body(
+    nx: usize,
+    ny: usize,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+) -> Sums {
+    let mut sums = Sums::default();
+    let fiber_on = k.motile || k.fiber != 0.0;
+    for j in 0..ny {
+        let row = |r: usize| r * nx..(r + 1) * nx;
+        let rj = row(j);
+        let c = &phi[rj.clone()];
+        let up = &phi[row((j + 1) % ny)];
+        let dn = &phi[row((j + ny - 1) % ny)];
+        let pr = &mut p[rj.clone()];
+        let o = &mut out[rj.clone()];
+        let fiber = fibers.of_row(j).filter(|_| fiber_on);
+        match (fiber.is_some(), other) {
+            (false, None) => step_row::<false, false>(k, c, up, dn, c, pr, o),
+            (true, None) => step_row::<true, false>(k, c, up, dn, c, pr, o),
+            (false, Some(q)) => step_row::<false, true>(k, c, up, dn, &q[rj], pr, o),
+            (true, Some(q)) => step_row::<true, true>(k, c, up, dn, &q[rj], pr, o),
+        }
+        match fibers.of_row(j) {
+            Some(f) => {
+                let (a, ad) = row_sums::<true>(o);
+                sums.area += a;
+                sums.adhesive[f as usize] += ad;
+            }
+            None => sums.area += row_sums::<false>(o).0,
+        }
+    }
+    sums
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn step_body_avx2(
+    nx: usize,
+    ny: usize,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+) -> Sums {
+    step_body(nx, ny, fibers, k, phi, p, other, out)
+}
+
+/// Advance one cell by one step: reads `phi` (and the other cell's phi, if any), updates `p` in
+/// place, writes phi(t+dt) into `out` and returns the sums of `out`.
+pub fn step_cell(
+    lat: &Lattice,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+) -> Sums {
+    assert_eq!(phi.len(), lat.len());
+    assert_eq!(p.len(), lat.len());
+    assert_eq!(out.len(), lat.len());
+    if let Some(q) = other {
+        assert_eq!(q.len(), lat.len());
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2 (checked just above).
+            return unsafe { step_body_avx2(lat.nx, lat.ny, fibers, k, phi, p, other, out) };
+        }
+    }
+    step_body(lat.nx, lat.ny, fibers, k, phi, p, other, out)
+}
+
+/// The portable path of [`step_cell`], for tests that compare it with the dispatched one.
+#[doc(hidden)]
+pub fn step_cell_portable(
+    lat: &Lattice,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+) -> Sums {
+    step_body(lat.nx, lat.ny, fibers, k, phi, p, other, out)
+}

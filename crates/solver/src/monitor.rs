@@ -1,0 +1,23 @@
+//! Progress reporting without I/O policy: the caller decides what to do with it.
+
+/// The stages of one trajectory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    Relax,
+    Free,
+    Collide,
+}
+
+/// Receives progress from a running trajectory. Every method has a no-op default.
+pub trait Monitor {
+    /// A stage of at most `total_steps` steps begins.
+    fn stage(&mut self, _stage: Stage, _total_steps: u64) {}
+    /// `steps_done` steps of the current stage are done.
+    fn advance(&mut self, _steps_done: u64) {}
+}
+
+/// A monitor that ignores everything.
+pub struct Silent;
+
+impl Monitor for Silent {}

@@ -1,0 +1,146 @@
+//! Observables of phase fields (SPEC sections 4 and 5) that are not part of the step itself.
+
+use serde::{Deserialize, Serialize};
+
+use crate::fibers::Fibers;
+use crate::kernel::Sums;
+use crate::lattice::Lattice;
+
+/// Summary of one cell's field, as printed by `cellsweep relax --json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FieldSummary {
+    pub steps: u64,
+    /// sum phi
+    pub sum_phi: f64,
+    /// S = sum phi^2
+    pub area: f64,
+    /// Ad = sum phi^2 (3 - 2 phi) chi
+    pub adhesive_area: f64,
+    /// Ad restricted to the bottom fiber's rows (the single fiber's with one fiber).
+    pub adhesive_area_bottom: f64,
+    /// Ad restricted to the top fiber's rows (the single fiber's with one fiber).
+    pub adhesive_area_top: f64,
+    pub xbar: f64,
+    pub ybar: f64,
+    pub max_phi: f64,
+}
+
+impl FieldSummary {
+    pub fn of(lat: &Lattice, fibers: &Fibers, phi: &[f64], steps: u64) -> Self {
+        let sums = Sums::of(lat, fibers, phi);
+        let (bottom, top) = if fibers.count() == 1 {
+            (sums.adhesive[0], sums.adhesive[0])
+        } else {
+            (sums.adhesive[0], sums.adhesive[1])
+        };
+        FieldSummary {
+            steps,
+            sum_phi: phi.iter().sum(),
+            area: sums.area,
+            adhesive_area: sums.adhesive_total(),
+            adhesive_area_bottom: bottom,
+            adhesive_area_top: top,
+            xbar: lat.centroid_x(phi),
+            ybar: lat.centroid_y(phi),
+            max_phi: max_of(phi),
+        }
+    }
+}
+
+/// Largest value of a field (NaN if any value is NaN).
+pub fn max_of(f: &[f64]) -> f64 {
+    f.iter().fold(f64::NEG_INFINITY, |m, &v| {
+        if v.is_nan() || m.is_nan() {
+            f64::NAN
+        } else {
+            m.max(v)
+        }
+    })
+}
+
+/// Whether every value of the fields is finite.
+pub fn all_finite(fields: &[&[f64]]) -> bool {
+    fields.iter().all(|f| f.iter().all(|v| v.is_finite()))
+}
+
+/// Overlap O = sum phi_1 phi_2.
+pub fn overlap(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Sizes of the 4-connected components (periodic in both directions) of the region phi > 0.5.
+pub fn components(lat: &Lattice, phi: &[f64]) -> Vec<usize> {
+    let (nx, ny) = (lat.nx, lat.ny);
+    let mut seen: Vec<bool> = phi.iter().map(|&v| v <= 0.5).collect();
+    let mut sizes = Vec::new();
+    let mut stack = Vec::new();
+    for start in 0..phi.len() {
+        if seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        let mut size = 0;
+        while let Some(s) = stack.pop() {
+            size += 1;
+            let (i, j) = (s % nx, s / nx);
+            let neighbours = [
+                j * nx + (i + 1) % nx,
+                j * nx + (i + nx - 1) % nx,
+                ((j + 1) % ny) * nx + i,
+                ((j + ny - 1) % ny) * nx + i,
+            ];
+            for q in neighbours {
+                if !seen[q] {
+                    seen[q] = true;
+                    stack.push(q);
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    sizes
+}
+
+/// Which fibers a cell holds on to, from its adhesive areas: a fiber whose adhesive area is
+/// below 10% of the other's has been let go (SPEC section 4, the `unstable` rule).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Attachment {
+    /// On both fibers (two-fiber geometry).
+    Both,
+    /// Only on the bottom fiber.
+    Bottom,
+    /// Only on the top fiber.
+    Top,
+    /// On the single fiber (one-fiber geometry).
+    Single,
+    /// On no fiber.
+    Detached,
+}
+
+/// Fraction below which a fiber counts as let go.
+pub const LET_GO_FRACTION: f64 = 0.1;
+
+impl Attachment {
+    pub fn of(fibers: &Fibers, sums: &Sums) -> Self {
+        let [b, t] = sums.adhesive;
+        if fibers.count() == 1 {
+            return if b > 0.0 {
+                Attachment::Single
+            } else {
+                Attachment::Detached
+            };
+        }
+        let max = b.max(t);
+        if max <= 0.0 || !max.is_finite() {
+            Attachment::Detached
+        } else if b < LET_GO_FRACTION * t {
+            Attachment::Top
+        } else if t < LET_GO_FRACTION * b {
+            Attachment::Bottom
+        } else {
+            Attachment::Both
+        }
+    }
+}

@@ -1,0 +1,203 @@
+//! Stages 1 to 4 of a trajectory (SPEC section 4): relax, kick, free motion, prep verdict.
+//! They depend only on the single-cell parameters and the prep seed, never on sigma or g.
+
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+use crate::cell::Cell;
+use crate::error::SolverError;
+use crate::fibers::Fibers;
+use crate::lattice::Lattice;
+use crate::monitor::{Monitor, Stage};
+use crate::noise::Noise;
+use crate::observables::{all_finite, components, max_of, FieldSummary, LET_GO_FRACTION};
+use crate::params::{Geometry, Params};
+use crate::protocol::Protocol;
+
+/// The verdict on a prepped cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Ok,
+    /// The cell let go of one of two fibers on its own (the paper's blue dots, Movie 9).
+    Unstable,
+    /// The phase field broke apart, vanished or diverged (the paper's cyan diamonds).
+    Breakup,
+}
+
+impl Verdict {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Ok => "ok",
+            Verdict::Unstable => "unstable",
+            Verdict::Breakup => "breakup",
+        }
+    }
+}
+
+/// A prepped cell: the state after free motion, from which every replicate of a point starts.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Prep {
+    pub seed: u64,
+    pub verdict: Verdict,
+    /// When a non-`ok` verdict was reached (tau0 into free motion).
+    pub verdict_time: Option<f64>,
+    /// Net displacement of the unwrapped centroid over the second half of free motion, per tau0.
+    pub free_speed: Option<f64>,
+    /// The relaxed cell (end of stage 1).
+    pub relaxed: FieldSummary,
+    /// The cell at the end of free motion (or at the verdict).
+    pub prepped: FieldSummary,
+    /// Single-cell lattice [Nx_s, Ny].
+    pub lattice: [usize; 2],
+    pub phi: Vec<f64>,
+    pub p: Vec<f64>,
+}
+
+/// The initial circle: phi = 1/2 + 1/2 tanh((R0 - r) / (2 d)), r the distance from the lattice
+/// centre ((Nx - 1)/2, (Ny - 1)/2).
+pub fn initial_circle(lat: &Lattice, params: &Params) -> Vec<f64> {
+    let (cx, cy) = ((lat.nx as f64 - 1.0) / 2.0, (lat.ny as f64 - 1.0) / 2.0);
+    let mut phi = lat.zeros();
+    for j in 0..lat.ny {
+        for i in 0..lat.nx {
+            let r = ((i as f64 - cx).powi(2) + (j as f64 - cy).powi(2)).sqrt();
+            phi[lat.idx(i, j)] = 0.5 + 0.5 * ((params.R0 - r) / (2.0 * params.d)).tanh();
+        }
+    }
+    phi
+}
+
+/// Stage 1: relax the initial circle for `steps` steps, P = 0, no motility force, no noise.
+pub fn relax(
+    params: &Params,
+    lat: &Lattice,
+    fibers: &Fibers,
+    steps: u64,
+    monitor: &mut dyn Monitor,
+) -> Cell {
+    let mut cell = Cell::new(lat, fibers, initial_circle(lat, params), lat.zeros());
+    monitor.stage(Stage::Relax, steps);
+    for s in 0..steps {
+        cell.step(lat, fibers, params, [0.0, 0.0], false);
+        if (s + 1) % 500 == 0 {
+            monitor.advance(s + 1);
+        }
+    }
+    monitor.advance(steps);
+    cell
+}
+
+/// Stage 2: P = 1 where phi > 0.5 and i >= Nx/2, P = 0 elsewhere (the cell will move to +x).
+pub fn kick(lat: &Lattice, cell: &mut Cell) {
+    for j in 0..lat.ny {
+        for i in 0..lat.nx {
+            let k = lat.idx(i, j);
+            cell.p[k] = if cell.phi[k] > 0.5 && i >= lat.nx / 2 {
+                1.0
+            } else {
+                0.0
+            };
+        }
+    }
+}
+
+/// The verdict checks of SPEC section 4 on the current state; `None` while the cell is fine.
+pub fn check_verdict(
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+    cell: &Cell,
+) -> Option<Verdict> {
+    let broken = !all_finite(&[&cell.phi, &cell.p])
+        || max_of(&cell.phi) < 0.5
+        || cell.sums.area < 0.5 * PI * params.R0 * params.R0
+        || components(lat, &cell.phi)
+            .iter()
+            .filter(|&&n| n >= 10)
+            .count()
+            > 1;
+    if broken {
+        return Some(Verdict::Breakup);
+    }
+    if params.geometry == Geometry::Two && fibers.count() == 2 {
+        let [b, t] = cell.sums.adhesive;
+        if b < LET_GO_FRACTION * t || t < LET_GO_FRACTION * b || b.max(t) <= 0.0 {
+            return Some(Verdict::Unstable);
+        }
+    }
+    None
+}
+
+/// Stages 1 to 4: relax, kick, free motion with noise from `seed`, and the verdict.
+pub fn prepare(
+    params: &Params,
+    protocol: &Protocol,
+    seed: u64,
+    monitor: &mut dyn Monitor,
+) -> Result<Prep, SolverError> {
+    let steps = protocol.validate(params)?;
+    let [nx, ny] = protocol.single_lattice;
+    let lat = Lattice::new(nx, ny);
+    let fibers = Fibers::new(params, ny);
+
+    let mut cell = relax(params, &lat, &fibers, steps.relax, monitor);
+    let relaxed = FieldSummary::of(&lat, &fibers, &cell.phi, steps.relax);
+    kick(&lat, &mut cell);
+
+    monitor.stage(Stage::Free, steps.free);
+    let mut noise = Noise::new(seed, 1, params.v0, params.sample_every());
+    let mut x_prev = lat.centroid_x(&cell.phi);
+    let mut track = vec![(0.0, x_prev)];
+    let mut verdict = Verdict::Ok;
+    let mut verdict_time = None;
+    let mut done = 0;
+    for s in 0..steps.free {
+        let nz = noise.at(s)[0];
+        cell.step(&lat, &fibers, params, nz, true);
+        let n = s + 1;
+        done = n;
+        let t = n as f64 * params.dt;
+        if n % steps.record_every == 0 || n == steps.free {
+            let x = lat.centroid_x(&cell.phi);
+            let xu = track.last().map_or(x, |&(_, xu)| xu) + lat.wrap_dx(x_prev, x);
+            x_prev = x;
+            track.push((t, xu));
+            monitor.advance(n);
+        }
+        let diverged = !cell.sums.area.is_finite();
+        if diverged || n % steps.check_every == 0 || n == steps.free {
+            if let Some(v) = check_verdict(&lat, &fibers, params, &cell) {
+                verdict = v;
+                verdict_time = Some(t);
+                break;
+            }
+        }
+    }
+    if steps.free == 0 {
+        if let Some(v) = check_verdict(&lat, &fibers, params, &cell) {
+            verdict = v;
+            verdict_time = Some(0.0);
+        }
+    }
+    let free_speed = speed_over_second_half(&track, steps.free as f64 * params.dt);
+    Ok(Prep {
+        seed,
+        verdict,
+        verdict_time,
+        free_speed: free_speed.filter(|v| v.is_finite()),
+        relaxed,
+        prepped: FieldSummary::of(&lat, &fibers, &cell.phi, done),
+        lattice: [nx, ny],
+        phi: cell.phi,
+        p: cell.p,
+    })
+}
+
+/// Net displacement over the second half of free motion (of length `total`), per unit time.
+fn speed_over_second_half(track: &[(f64, f64)], total: f64) -> Option<f64> {
+    let &(t_end, x_end) = track.last()?;
+    let half = total / 2.0;
+    let &(t_mid, x_mid) = track.iter().find(|&&(t, _)| t >= half - 1e-9)?;
+    (t_end > t_mid).then(|| (x_end - x_mid) / (t_end - t_mid))
+}

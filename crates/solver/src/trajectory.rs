@@ -1,0 +1,108 @@
+//! One whole trajectory (prep, then collision) and the record of its result.
+
+use serde::{Deserialize, Serialize};
+
+use crate::classifier::{ClassifierSettings, Outcome};
+use crate::collision::{collide, Collision};
+use crate::error::SolverError;
+use crate::monitor::Monitor;
+use crate::observables::Attachment;
+use crate::params::Params;
+use crate::prep::{prepare, Prep, Verdict};
+use crate::protocol::Protocol;
+
+/// Version of the numerics; stored with every result so that versions never mix silently.
+pub const SOLVER_VERSION: &str = concat!("cellsweep-solver ", env!("CARGO_PKG_VERSION"));
+
+/// Seeds of the two noisy stages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Seeds {
+    pub prep: u64,
+    pub collision: u64,
+}
+
+impl Seeds {
+    /// The seeds of a stand-alone run (`cellsweep simulate --seed N`).
+    pub fn from_run_seed(seed: u64) -> Self {
+        use crate::seed::{derive, COLLISION_TAG, PREP_TAG};
+        Seeds {
+            prep: derive(&[seed, PREP_TAG]),
+            collision: derive(&[seed, COLLISION_TAG]),
+        }
+    }
+}
+
+/// Everything a trajectory needs besides its seeds.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Config {
+    pub params: Params,
+    pub protocol: Protocol,
+    pub classifier: ClassifierSettings,
+}
+
+/// The result of one trajectory, with everything needed to reproduce it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryResult {
+    pub solver_version: String,
+    pub config: Config,
+    pub seeds: Seeds,
+    pub verdict: Verdict,
+    /// The collision's outcome; `None` when the prep verdict is not `ok` (no collision is run).
+    pub outcome: Option<Outcome>,
+    pub free_speed: Option<f64>,
+    pub threshold_speed: Option<f64>,
+    pub contact_time: Option<f64>,
+    pub decision_time: Option<f64>,
+    /// Fiber attachment of cell 1 and cell 2 after the collision.
+    pub attachment: Option<[Attachment; 2]>,
+    pub collision_steps: u64,
+}
+
+impl TrajectoryResult {
+    /// The record of a prep and, if it was run, its collision.
+    pub fn new(config: &Config, prep: &Prep, collision_seed: u64, c: Option<&Collision>) -> Self {
+        TrajectoryResult {
+            solver_version: SOLVER_VERSION.to_string(),
+            config: config.clone(),
+            seeds: Seeds {
+                prep: prep.seed,
+                collision: collision_seed,
+            },
+            verdict: prep.verdict,
+            outcome: c.map(|c| c.outcome),
+            free_speed: prep.free_speed,
+            threshold_speed: c.map(|c| c.threshold_speed),
+            contact_time: c.and_then(|c| c.contact_time),
+            decision_time: c.and_then(|c| c.decision_time),
+            attachment: c.map(|c| c.attachment),
+            collision_steps: c.map_or(0, |c| c.steps),
+        }
+    }
+}
+
+/// Run one whole trajectory: prep with `seeds.prep`, and, if its verdict is `ok`, the collision
+/// with `seeds.collision`. Returns the prep and collision too, for callers that want the fields
+/// or the track.
+pub fn run_trajectory(
+    config: &Config,
+    seeds: Seeds,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+) -> Result<(TrajectoryResult, Prep, Option<Collision>), SolverError> {
+    let prep = prepare(&config.params, &config.protocol, seeds.prep, monitor)?;
+    let collision = if prep.verdict == Verdict::Ok {
+        Some(collide(
+            &config.params,
+            &config.protocol,
+            &config.classifier,
+            &prep,
+            seeds.collision,
+            monitor,
+            parallel,
+        )?)
+    } else {
+        None
+    };
+    let result = TrajectoryResult::new(config, &prep, seeds.collision, collision.as_ref());
+    Ok((result, prep, collision))
+}

@@ -1,0 +1,94 @@
+//! The command line's shape (clap). Each subcommand's behaviour lives in `commands/`.
+
+use cellsweep_solver::Geometry;
+use clap::{Args, Parser, Subcommand};
+
+#[derive(Debug, Parser)]
+#[command(name = "cellsweep", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the deterministic relaxation of one cell (SPEC stage 1) and summarize the field.
+    Relax(RelaxArgs),
+    /// Run one whole trajectory (prep and collision) and print its result.
+    Simulate(SimulateArgs),
+}
+
+/// Parameters shared by the commands that run the model.
+#[derive(Debug, Args)]
+pub struct ModelArgs {
+    /// Line-tension parameter alpha.
+    #[arg(long, default_value_t = 0.1)]
+    pub alpha: f64,
+    /// Fiber spacing L (even, lattice sites).
+    #[arg(long = "L", default_value_t = 90)]
+    pub spacing: u32,
+    /// Fiber geometry: two parallel fibers or one.
+    #[arg(long, default_value = "two")]
+    pub geometry: Geometry,
+    /// Any other SPEC parameter, as NAME=VALUE (repeatable), e.g. --set tau=50 --set R0=20.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Single-cell lattice, NXxNY (default 200x200).
+    #[arg(long, value_name = "NXxNY")]
+    pub lattice: Option<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct RelaxArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Relaxation steps (default: 40 tau0 = 20,000 steps at dt = 0.002).
+    #[arg(long)]
+    pub steps: Option<u64>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Polarity feedback beta.
+    #[arg(long, default_value_t = 10.0)]
+    pub beta: f64,
+    /// Cell-cell adhesion sigma.
+    #[arg(long, default_value_t = 5.0)]
+    pub sigma: f64,
+    /// Seed of the run; the prep and collision seeds derive from it.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Pair lattice, NXxNY (default: twice the single-cell width, same height).
+    #[arg(long, value_name = "NXxNY")]
+    pub pair_lattice: Option<String>,
+    /// Relaxation time, tau0.
+    #[arg(long, default_value_t = 40.0)]
+    pub relax_time: f64,
+    /// Free-motion time, tau0.
+    #[arg(long, default_value_t = 400.0)]
+    pub free_time: f64,
+    /// Longest collision time, tau0.
+    #[arg(long, default_value_t = 400.0)]
+    pub collide_time: f64,
+    /// Run the collision to the end instead of stopping at the decided outcome.
+    #[arg(long)]
+    pub full: bool,
+    /// A classifier setting, as NAME=VALUE (repeatable): contact_overlap, speed_fraction,
+    /// min_speed, velocity_window, sustain_window, walk_past_margin.
+    #[arg(long = "classifier", value_name = "NAME=VALUE")]
+    pub classifier: Vec<String>,
+    /// Compute the two cells on one thread only (default: two threads during the collision).
+    #[arg(long)]
+    pub serial: bool,
+    /// Write the collision's observables (one JSON object per sample) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub track: Option<std::path::PathBuf>,
+    /// Print the result as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}

@@ -1,0 +1,83 @@
+//! `cellsweep simulate`: one whole trajectory, prep and collision.
+
+use std::io::Write;
+use std::time::Instant;
+
+use anyhow::Context;
+use cellsweep_solver::{run_trajectory, Config, Protocol, Seeds};
+
+use super::model;
+use crate::cli::SimulateArgs;
+use crate::progress::StageBars;
+
+pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    let mut params = model::params(&args.model)?;
+    params.beta = args.beta;
+    params.sigma = args.sigma;
+    let single = model::single_lattice(&args.model)?;
+    let pair = match &args.pair_lattice {
+        Some(s) => model::parse_lattice(s)?,
+        None => [2 * single[0], single[1]],
+    };
+    let protocol = Protocol {
+        single_lattice: single,
+        pair_lattice: pair,
+        relax_time: args.relax_time,
+        free_time: args.free_time,
+        collide_time: args.collide_time,
+        stop_early: !args.full,
+        ..Protocol::default()
+    };
+    protocol.validate(&params).context("invalid parameters")?;
+    let config = Config {
+        params,
+        protocol,
+        classifier: model::classifier(&args.classifier)?,
+    };
+    let seeds = Seeds::from_run_seed(args.seed);
+    let mut bars = StageBars::new();
+    let started = Instant::now();
+    let (result, prep, collision) = run_trajectory(&config, seeds, &mut bars, !args.serial)?;
+    bars.finish();
+    let wall = started.elapsed().as_secs_f64();
+
+    if let (Some(path), Some(c)) = (&args.track, &collision) {
+        let mut f = std::io::BufWriter::new(
+            std::fs::File::create(path)
+                .with_context(|| format!("cannot write {}", path.display()))?,
+        );
+        for s in &c.track {
+            writeln!(f, "{}", serde_json::to_string(s)?)?;
+        }
+    }
+    if args.json {
+        let mut v = serde_json::to_value(&result)?;
+        v["wall_s"] = wall.into();
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(());
+    }
+    let p = &config.params;
+    println!(
+        "alpha = {}, beta = {}, L = {}, sigma = {}, geometry = {}, seed = {}",
+        p.alpha, p.beta, p.L, p.sigma, p.geometry, args.seed
+    );
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+    println!("  prep verdict      {}", result.verdict.as_str());
+    println!("  free speed        {} l0/tau0", opt(prep.free_speed));
+    match (&collision, result.outcome) {
+        (Some(c), Some(outcome)) => {
+            println!("  outcome           {outcome}");
+            println!("  contact time      {} tau0", opt(c.contact_time));
+            println!("  decision time     {} tau0", opt(c.decision_time));
+            println!("  threshold speed   {:.3} l0/tau0", c.threshold_speed);
+            println!(
+                "  attachment        cell 1: {:?}, cell 2: {:?}",
+                c.attachment[0], c.attachment[1]
+            );
+            println!("  collision steps   {}", c.steps);
+        }
+        _ => println!("  no collision (the prep is not ok)"),
+    }
+    println!("  wall time         {wall:.1} s");
+    Ok(())
+}

@@ -1,0 +1,16 @@
+//! `cellsweep`: reproduce, resume and query phase diagrams of cell-cell collisions on nanofibers.
+
+mod cli;
+mod commands;
+mod progress;
+
+use clap::Parser;
+
+fn main() {
+    let cli = cli::Cli::parse();
+    if let Err(err) = commands::dispatch(cli) {
+        // One clear line naming the problem; the chain of causes joined on it.
+        eprintln!("error: {err:#}");
+        std::process::exit(1);
+    }
+}

@@ -16,6 +16,53 @@ pub enum Command {
     Relax(RelaxArgs),
     /// Run one whole trajectory (prep and collision) and print its result.
     Simulate(SimulateArgs),
+    /// Run (or resume) a sweep on this machine: register it in the store, expand it into seeded
+    /// jobs and dispatch them to worker processes.
+    Run(RunArgs),
+    /// Progress of every sweep in the store: jobs by state, outcome counts, throughput, ETA.
+    Status(StatusArgs),
+    /// Serve jobs on stdin/stdout (JSON lines); started by `run`, not by hand.
+    #[command(hide = true)]
+    Worker,
+}
+
+/// The store to use.
+#[derive(Debug, Args)]
+pub struct DbArgs {
+    /// SQLite database of results.
+    #[arg(long, default_value = "cellsweep.sqlite", value_name = "PATH")]
+    pub db: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Sweep file (see sweeps/*.toml).
+    pub sweep: std::path::PathBuf,
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// Worker processes (default: the number of cores).
+    #[arg(long)]
+    pub workers: Option<usize>,
+    /// Register this sweep even though a different sweep has its name; the old one keeps its
+    /// results under a new name.
+    #[arg(long)]
+    pub replace: bool,
+    /// Seconds one job may take before its worker is killed and the job retried (default: the
+    /// sweep file's [run] job_timeout, else 3600).
+    #[arg(long)]
+    pub job_timeout: Option<f64>,
+    /// Failed attempts before a job is marked failed (default: the sweep file's, else 3).
+    #[arg(long)]
+    pub max_attempts: Option<u32>,
+}
+
+#[derive(Debug, Args)]
+pub struct StatusArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Parameters shared by the commands that run the model.

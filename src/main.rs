@@ -8,9 +8,12 @@ use clap::Parser;
 
 fn main() {
     let cli = cli::Cli::parse();
-    if let Err(err) = commands::dispatch(cli) {
-        // One clear line naming the problem; the chain of causes joined on it.
-        eprintln!("error: {err:#}");
-        std::process::exit(1);
+    match commands::dispatch(cli) {
+        Ok(code) => std::process::exit(code),
+        Err(err) => {
+            // One clear line naming the problem; the chain of causes joined on it.
+            eprintln!("error: {err:#}");
+            std::process::exit(1);
+        }
     }
 }

@@ -54,3 +54,97 @@ impl Monitor for StageBars {
         }
     }
 }
+
+/// Progress of a sweep: an indicatif bar on a terminal, a plain line every 10 s otherwise.
+pub struct SweepBar {
+    bar: Option<ProgressBar>,
+    last_line: Option<std::time::Instant>,
+    last: cellsweep_scheduler::Progress,
+}
+
+impl SweepBar {
+    pub fn new() -> Self {
+        let bar = std::io::stdout().is_terminal().then(|| {
+            let bar = ProgressBar::new(0);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "[{elapsed_precise}] [{bar:30}] {pos}/{len} jobs ({per_sec}, ETA {eta}) {msg}",
+                )
+                .expect("valid template")
+                .progress_chars("=> "),
+            );
+            bar
+        });
+        SweepBar {
+            bar,
+            last_line: None,
+            last: Default::default(),
+        }
+    }
+
+    fn message(p: &cellsweep_scheduler::Progress) -> String {
+        let o = &p.outcomes;
+        let mut s = format!(
+            "train {} walk {} rev {} undet {} | preps {}/{}",
+            o.train, o.walk_past, o.reversal, o.undetermined, p.preps_done, p.preps_total
+        );
+        if o.unstable + o.breakup > 0 {
+            s += &format!(" | unstable {} breakup {}", o.unstable, o.breakup);
+        }
+        if p.failed > 0 || p.retries > 0 {
+            s += &format!(" | failed {} retried {}", p.failed, p.retries);
+        }
+        s
+    }
+
+    pub fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish();
+        } else if self.last_line.is_some() {
+            self.print_line();
+        }
+    }
+
+    fn print_line(&self) {
+        let p = &self.last;
+        println!(
+            "progress: {}/{} jobs | {}",
+            p.jobs_done,
+            p.jobs_total,
+            Self::message(p)
+        );
+    }
+}
+
+impl cellsweep_scheduler::Reporter for SweepBar {
+    fn progress(&mut self, p: &cellsweep_scheduler::Progress) {
+        self.last = p.clone();
+        match &self.bar {
+            Some(bar) => {
+                if bar.length() != Some(p.jobs_total) {
+                    bar.set_length(p.jobs_total);
+                    bar.set_position(p.jobs_done);
+                    bar.reset_eta();
+                }
+                bar.set_position(p.jobs_done);
+                bar.set_message(Self::message(p));
+            }
+            None => {
+                let due = self
+                    .last_line
+                    .is_none_or(|t| t.elapsed().as_secs_f64() >= 10.0);
+                if due {
+                    self.print_line();
+                    self.last_line = Some(std::time::Instant::now());
+                }
+            }
+        }
+    }
+
+    fn note(&mut self, message: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(message),
+            None => println!("{message}"),
+        }
+    }
+}

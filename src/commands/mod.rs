@@ -1,14 +1,24 @@
-//! One module per subcommand.
+//! One module per subcommand. Each returns the process's exit code.
 
 mod model;
 mod relax;
+mod run;
 mod simulate;
+mod status;
 
 use crate::cli::{Cli, Command};
 
-pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
+pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
-        Command::Relax(args) => relax::run(args),
-        Command::Simulate(args) => simulate::run(args),
+        Command::Relax(args) => relax::run(args).map(|_| 0),
+        Command::Simulate(args) => simulate::run(args).map(|_| 0),
+        Command::Run(args) => run::run(args),
+        Command::Status(args) => status::run(args).map(|_| 0),
+        Command::Worker => {
+            let stdin = std::io::stdin();
+            let stdout = std::io::stdout();
+            cellsweep_scheduler::worker::serve(stdin.lock(), stdout.lock())?;
+            Ok(0)
+        }
     }
 }

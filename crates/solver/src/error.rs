@@ -78,3 +78,24 @@ pub enum SolverError {
     #[error("prep fields do not match the single-cell lattice {nx} x {ny}")]
     PrepMismatch { nx: usize, ny: usize },
 }
+
+impl ParamError {
+    /// The parameter (or protocol setting) the error is about.
+    pub fn parameter(&self) -> &'static str {
+        match self {
+            ParamError::NotFinite { name, .. }
+            | ParamError::NotPositive { name, .. }
+            | ParamError::Negative { name, .. }
+            | ParamError::OutOfRange { name, .. }
+            | ParamError::DurationNotMultiple { name, .. }
+            | ParamError::OddLattice { name, .. }
+            | ParamError::LatticeTooSmall { name, .. } => name,
+            ParamError::OddSpacing(_)
+            | ParamError::SpacingTooSmall { .. }
+            | ParamError::SpacingTooLarge { .. } => "L",
+            ParamError::Unstable { .. } => "dt",
+            ParamError::SampleNotMultiple { .. } => "t_sample",
+            ParamError::PairLattice { .. } => "pair_lattice",
+        }
+    }
+}

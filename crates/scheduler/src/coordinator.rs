@@ -1,0 +1,537 @@
+//! The coordinator of a local run: takes a registered sweep's pending preps and jobs from the
+//! store, dispatches them to worker processes (preps first; a point's collisions once its prep is
+//! done), and commits each answer to the store in its own transaction as it arrives.
+//!
+//! Faults: a failed attempt (worker crash, timeout, solver error) sends the job back to `pending`
+//! until `max_attempts` attempts have failed, then marks it `failed` with its error. Ctrl-C or
+//! SIGTERM stops dispatching, stops the workers and puts their jobs back to `pending`. A
+//! coordinator killed outright leaves jobs `running`; the next run recovers them first.
+
+use std::collections::{HashMap, HashSet, VecDeque};
+use std::time::Duration;
+
+use cellsweep_solver::{Config, Outcome, TrajectoryResult, Verdict};
+use cellsweep_store::{
+    JobState, JobTask, OutcomeCounts, PrepRecord, PrepTask, ResultRecord, Store,
+};
+use serde_json::json;
+use tokio::sync::mpsc;
+
+use crate::error::RunError;
+use crate::pool::{worker_task, Event, WorkerCommand};
+use crate::wire::{PrepPayload, Request, Response};
+
+/// How to run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    pub workers: usize,
+    pub job_timeout: Duration,
+    pub max_attempts: u32,
+    pub worker: WorkerCommand,
+}
+
+/// A snapshot of a run's progress, for display.
+#[derive(Debug, Clone, Default)]
+pub struct Progress {
+    pub jobs_done: u64,
+    pub jobs_total: u64,
+    pub preps_done: u64,
+    pub preps_total: u64,
+    pub outcomes: OutcomeCounts,
+    pub failed: u64,
+    pub retries: u64,
+    pub running: usize,
+}
+
+/// Receives progress and notes from a run.
+pub trait Reporter {
+    fn progress(&mut self, progress: &Progress);
+    fn note(&mut self, message: &str);
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ending {
+    /// No dispatchable work is left.
+    Finished,
+    /// Stopped by Ctrl-C or SIGTERM; unfinished jobs are pending again.
+    Interrupted,
+}
+
+#[derive(Debug, Clone)]
+pub struct RunReport {
+    pub ending: Ending,
+    pub progress: Progress,
+}
+
+enum Busy {
+    Prep(PrepTask),
+    Job(JobTask),
+}
+
+struct Worker {
+    requests: mpsc::Sender<Request>,
+    preps: HashSet<i64>,
+    busy: Option<Busy>,
+}
+
+/// The record of a job decided by its prep's verdict (no collision run).
+fn verdict_record(
+    verdict: &str,
+    free_speed: Option<f64>,
+    prep_id: i64,
+    classifier: &str,
+) -> ResultRecord {
+    ResultRecord {
+        verdict: verdict.to_string(),
+        outcome: None,
+        contact_time: None,
+        decision_time: None,
+        free_speed,
+        threshold_speed: None,
+        attachment: None,
+        collision_steps: 0,
+        wall_s: 0.0,
+        classifier: classifier.to_string(),
+        record: json!({ "verdict": verdict, "prep_id": prep_id, "free_speed": free_speed })
+            .to_string(),
+    }
+}
+
+fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
+    ResultRecord {
+        verdict: r.verdict.as_str().to_string(),
+        outcome: r.outcome.map(|o| o.as_str().to_string()),
+        contact_time: r.contact_time,
+        decision_time: r.decision_time,
+        free_speed: r.free_speed,
+        threshold_speed: r.threshold_speed,
+        attachment: r.attachment.map(|[a, b]| {
+            let s = |x| {
+                serde_json::to_value(x)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default()
+            };
+            [s(a), s(b)]
+        }),
+        collision_steps: r.collision_steps,
+        wall_s,
+        classifier: serde_json::to_string(&r.config.classifier).unwrap_or_default(),
+        record: serde_json::to_string(r).unwrap_or_default(),
+    }
+}
+
+fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, n: i64) {
+    let slot = match (verdict, outcome) {
+        (_, Some(Outcome::Train)) => &mut outcomes.train,
+        (_, Some(Outcome::WalkPast)) => &mut outcomes.walk_past,
+        (_, Some(Outcome::Reversal)) => &mut outcomes.reversal,
+        (_, Some(Outcome::Undetermined)) => &mut outcomes.undetermined,
+        ("unstable", None) => &mut outcomes.unstable,
+        _ => &mut outcomes.breakup,
+    };
+    *slot += n;
+}
+
+struct Run<'a> {
+    store: &'a mut Store,
+    sweep_id: i64,
+    version: String,
+    opts: RunOptions,
+    prep_queue: VecDeque<PrepTask>,
+    waiting: HashMap<i64, VecDeque<JobTask>>,
+    ready: VecDeque<JobTask>,
+    payloads: HashMap<i64, PrepPayload>,
+    prep_seeds: HashMap<i64, u64>,
+    classifier: String,
+    progress: Progress,
+}
+
+impl Run<'_> {
+    fn payload(&mut self, prep_id: i64) -> Result<PrepPayload, RunError> {
+        if let Some(p) = self.payloads.get(&prep_id) {
+            return Ok(p.clone());
+        }
+        let seed = self.prep_seeds.get(&prep_id).copied().unwrap_or_default();
+        let rec = self.store.load_prep(prep_id)?;
+        let summary: serde_json::Value = serde_json::from_str(&rec.summary)?;
+        let prep = cellsweep_solver::Prep {
+            seed,
+            verdict: serde_json::from_value(json!(rec.verdict))?,
+            verdict_time: rec.verdict_time,
+            free_speed: rec.free_speed,
+            relaxed: serde_json::from_value(summary["relaxed"].clone())?,
+            prepped: serde_json::from_value(summary["prepped"].clone())?,
+            lattice: [rec.nx, rec.ny],
+            phi: rec.phi,
+            p: rec.p,
+        };
+        let payload = PrepPayload::from_prep(&prep);
+        self.payloads.insert(prep_id, payload.clone());
+        Ok(payload)
+    }
+
+    /// The next request for `worker`, claimed in the store.
+    fn next_request(&mut self, worker: &mut Worker) -> Result<Option<Request>, RunError> {
+        if let Some(prep) = self.prep_queue.pop_front() {
+            self.store.claim_prep(prep.id)?;
+            let config: Config = serde_json::from_str(&prep.config)?;
+            let req = Request::Prep {
+                task: prep.id,
+                attempt: prep.attempts + 1,
+                config,
+                seed: prep.seed,
+            };
+            worker.busy = Some(Busy::Prep(prep));
+            return Ok(Some(req));
+        }
+        if let Some(job) = self.ready.pop_front() {
+            self.store.claim_job(job.id)?;
+            let config: Config = serde_json::from_str(&job.config)?;
+            let prep = if worker.preps.contains(&job.prep_id) {
+                None
+            } else {
+                let payload = self.payload(job.prep_id)?;
+                worker.preps.insert(job.prep_id);
+                Some(payload)
+            };
+            let req = Request::Collide {
+                task: job.id,
+                attempt: job.attempts + 1,
+                config,
+                seed: job.seed,
+                prep_id: job.prep_id,
+                prep,
+            };
+            worker.busy = Some(Busy::Job(job));
+            return Ok(Some(req));
+        }
+        Ok(None)
+    }
+
+    /// A prep is decided: release its jobs, or settle them with its verdict.
+    fn prep_decided(
+        &mut self,
+        prep_id: i64,
+        verdict: &str,
+        free_speed: Option<f64>,
+    ) -> Result<(), RunError> {
+        let jobs = self.waiting.remove(&prep_id).unwrap_or_default();
+        if verdict == Verdict::Ok.as_str() {
+            self.ready.extend(jobs);
+        } else {
+            let rec = verdict_record(verdict, free_speed, prep_id, &self.classifier);
+            let n = self
+                .store
+                .settle_jobs_of_prep(self.sweep_id, prep_id, &self.version, &rec)?;
+            self.progress.jobs_done += n as u64;
+            count(&mut self.progress.outcomes, verdict, None, n as i64);
+        }
+        Ok(())
+    }
+
+    fn prep_failed_for_good(&mut self, prep_id: i64, error: &str) -> Result<(), RunError> {
+        self.waiting.remove(&prep_id);
+        let n = self
+            .store
+            .fail_jobs_of_prep(self.sweep_id, prep_id, &self.version, error)?;
+        self.progress.failed += n as u64;
+        Ok(())
+    }
+
+    fn on_reply(&mut self, busy: Busy, response: Response) -> Result<(), RunError> {
+        match (busy, response) {
+            (Busy::Prep(task), Response::Prep { prep, wall_s, .. }) => {
+                let summary =
+                    json!({ "relaxed": prep.relaxed, "prepped": prep.prepped }).to_string();
+                let decoded = prep
+                    .to_prep()
+                    .map_err(|e| RunError::Config(serde::de::Error::custom(e)))?;
+                let rec = PrepRecord {
+                    verdict: prep.verdict.as_str().to_string(),
+                    verdict_time: prep.verdict_time,
+                    free_speed: prep.free_speed,
+                    nx: prep.lattice[0],
+                    ny: prep.lattice[1],
+                    phi: decoded.phi,
+                    p: decoded.p,
+                    summary,
+                    wall_s,
+                };
+                self.store.commit_prep(task.id, &rec)?;
+                self.progress.preps_done += 1;
+                let (verdict, speed) = (prep.verdict.as_str(), prep.free_speed);
+                self.payloads.insert(task.id, prep);
+                self.prep_decided(task.id, verdict, speed)?;
+            }
+            (Busy::Job(task), Response::Collide { result, wall_s, .. }) => {
+                self.store.commit_result(
+                    task.id,
+                    &self.version,
+                    &result_record(&result, wall_s),
+                )?;
+                self.progress.jobs_done += 1;
+                count(
+                    &mut self.progress.outcomes,
+                    result.verdict.as_str(),
+                    result.outcome,
+                    1,
+                );
+            }
+            (busy, Response::Failed { error, .. }) => self.on_failure(busy, &error)?,
+            (busy, other) => self.on_failure(
+                busy,
+                &format!("worker answered with the wrong kind of result: {other:?}"),
+            )?,
+        }
+        Ok(())
+    }
+
+    fn on_failure(&mut self, busy: Busy, error: &str) -> Result<(), RunError> {
+        let max = self.opts.max_attempts;
+        match busy {
+            Busy::Prep(mut task) => match self.store.fail_prep(task.id, error, max)? {
+                JobState::Pending => {
+                    self.progress.retries += 1;
+                    task.attempts += 1;
+                    self.prep_queue.push_front(task);
+                }
+                _ => {
+                    self.progress.preps_done += 1;
+                    self.prep_failed_for_good(task.id, error)?;
+                }
+            },
+            Busy::Job(mut task) => match self.store.fail_job(task.id, error, max)? {
+                JobState::Pending => {
+                    self.progress.retries += 1;
+                    task.attempts += 1;
+                    self.ready.push_front(task);
+                }
+                _ => self.progress.failed += 1,
+            },
+        }
+        Ok(())
+    }
+}
+
+/// Run the pending work of sweep `sweep_id` for solver `version` to completion (or interruption).
+pub async fn run_sweep(
+    store: &mut Store,
+    sweep_id: i64,
+    version: &str,
+    opts: RunOptions,
+    reporter: &mut dyn Reporter,
+) -> Result<RunReport, RunError> {
+    let recovered = store.recover_running(sweep_id, version)?;
+    if recovered > 0 {
+        reporter.note(&format!(
+            "recovered {recovered} interrupted jobs and preps; they run again"
+        ));
+    }
+    let preps = store.preps_of(sweep_id, version)?;
+    let pending_jobs = store.pending_jobs(sweep_id, version)?;
+    let classifier = pending_jobs
+        .first()
+        .and_then(|j| serde_json::from_str::<Config>(&j.config).ok())
+        .map(|c| serde_json::to_string(&c.classifier).unwrap_or_default())
+        .unwrap_or_default();
+    let status = store.status()?;
+    let mut progress = Progress::default();
+    if let Some(s) = status
+        .iter()
+        .find(|s| s.solver_version == version && store.sweep_id(&s.sweep).ok() == Some(sweep_id))
+    {
+        progress.jobs_total = s.jobs.total() as u64;
+        progress.jobs_done = s.jobs.done as u64;
+        progress.failed = s.jobs.failed as u64;
+        progress.outcomes = s.outcomes.clone();
+    }
+    progress.preps_total = preps.len() as u64;
+
+    let mut run = Run {
+        store,
+        sweep_id,
+        version: version.to_string(),
+        opts: opts.clone(),
+        prep_queue: VecDeque::new(),
+        waiting: HashMap::new(),
+        ready: VecDeque::new(),
+        payloads: HashMap::new(),
+        prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
+        classifier,
+        progress,
+    };
+    let mut decided = Vec::new();
+    for prep in preps {
+        match prep.state {
+            JobState::Done => {
+                run.progress.preps_done += 1;
+                decided.push((prep.id, prep.verdict.clone().unwrap_or_default()));
+            }
+            JobState::Failed => {
+                run.progress.preps_done += 1;
+                let error = "failed in an earlier run".to_string();
+                run.prep_failed_for_good(prep.id, &error)?;
+            }
+            _ => run.prep_queue.push_back(prep),
+        }
+    }
+    for job in pending_jobs {
+        run.waiting.entry(job.prep_id).or_default().push_back(job);
+    }
+    for (id, verdict) in decided {
+        let speed = if verdict == "ok" {
+            None
+        } else {
+            run.store.load_prep(id).ok().and_then(|r| r.free_speed)
+        };
+        run.prep_decided(id, &verdict, speed)?;
+    }
+    reporter.progress(&run.progress);
+
+    let work = run.prep_queue.len()
+        + run.ready.len()
+        + run.waiting.values().map(|v| v.len()).sum::<usize>();
+    let n_workers = opts.workers.max(1).min(work.max(1));
+    let (event_tx, mut events) = mpsc::unbounded_channel();
+    let mut workers: HashMap<usize, Worker> = HashMap::new();
+    let mut handles = Vec::new();
+    if work > 0 {
+        for i in 0..n_workers {
+            let (tx, rx) = mpsc::channel(1);
+            handles.push(tokio::spawn(worker_task(
+                i,
+                opts.worker.clone(),
+                opts.job_timeout,
+                rx,
+                event_tx.clone(),
+            )));
+            workers.insert(
+                i,
+                Worker {
+                    requests: tx,
+                    preps: HashSet::new(),
+                    busy: None,
+                },
+            );
+        }
+    }
+    drop(event_tx);
+
+    let mut interrupt = Box::pin(interrupted());
+    let mut ending = Ending::Finished;
+    let mut fatal: Option<RunError> = None;
+    loop {
+        // Give every idle worker something to do.
+        let mut ids: Vec<usize> = workers.keys().copied().collect();
+        ids.sort_unstable();
+        for id in ids {
+            let w = workers.get_mut(&id).expect("worker");
+            if w.busy.is_some() {
+                continue;
+            }
+            match run.next_request(w) {
+                Ok(Some(req)) => {
+                    if w.requests.send(req).await.is_err() {
+                        // The worker task is gone; its Dead event explains why.
+                        if let Some(busy) = w.busy.take() {
+                            run.on_failure(busy, "worker process is gone")?;
+                        }
+                    }
+                }
+                Ok(None) => break,
+                Err(e) => {
+                    fatal = Some(e);
+                    break;
+                }
+            }
+        }
+        if fatal.is_some() {
+            break;
+        }
+        run.progress.running = workers.values().filter(|w| w.busy.is_some()).count();
+        reporter.progress(&run.progress);
+        if run.progress.running == 0 {
+            break;
+        }
+        tokio::select! {
+            ev = events.recv() => match ev {
+                Some(Event::Reply { worker, response }) => {
+                    if let Some(busy) = workers.get_mut(&worker).and_then(|w| w.busy.take()) {
+                        if let Err(e) = run.on_reply(busy, response) { fatal = Some(e); break; }
+                    }
+                }
+                Some(Event::Lost { worker, error }) => {
+                    reporter.note(&format!("worker {worker}: {error}"));
+                    if let Some(w) = workers.get_mut(&worker) {
+                        w.preps.clear();
+                        if let Some(busy) = w.busy.take() {
+                            if let Err(e) = run.on_failure(busy, &error) { fatal = Some(e); break; }
+                        }
+                    }
+                }
+                Some(Event::Dead { worker, error }) => {
+                    reporter.note(&format!("worker {worker} is gone: {error}"));
+                    if let Some(mut w) = workers.remove(&worker) {
+                        if let Some(busy) = w.busy.take() {
+                            if let Err(e) = run.on_failure(busy, &error) { fatal = Some(e); break; }
+                        }
+                    }
+                    if workers.is_empty() {
+                        fatal = Some(RunError::Spawn {
+                            exe: opts.worker.exe.display().to_string(),
+                            source: std::io::Error::other(error),
+                        });
+                        break;
+                    }
+                }
+                None => break,
+            },
+            _ = &mut interrupt => {
+                ending = Ending::Interrupted;
+                break;
+            }
+        }
+    }
+    // Stop the workers: closing their request channels ends their tasks, which kill the
+    // processes; then whatever was running goes back to pending.
+    drop(workers);
+    for h in handles {
+        let _ = h.await;
+    }
+    let requeued = run.store.recover_running(sweep_id, version)?;
+    if ending == Ending::Interrupted {
+        reporter.note(&format!(
+            "interrupted: {requeued} running jobs put back to pending; run again to resume"
+        ));
+    }
+    if let Some(e) = fatal {
+        return Err(e);
+    }
+    run.progress.running = 0;
+    Ok(RunReport {
+        ending,
+        progress: run.progress,
+    })
+}
+
+/// Resolves on Ctrl-C or SIGTERM.
+async fn interrupted() {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{signal, SignalKind};
+        let mut term = match signal(SignalKind::terminate()) {
+            Ok(s) => s,
+            Err(_) => return std::future::pending().await,
+        };
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => {}
+            _ = term.recv() => {}
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = tokio::signal::ctrl_c().await;
+    }
+}

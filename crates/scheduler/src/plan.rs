@@ -1,0 +1,104 @@
+//! Expanding a sweep into points, preps and seeded jobs (SPEC section 6).
+//!
+//! - A prep's seed derives from the sweep seed, the single-cell parameters (every parameter but
+//!   sigma and g), the prep protocol and the prep index: points that differ only in sigma or g
+//!   start from the very same prepped cell.
+//! - A job's seed derives from the sweep seed, every parameter of its point and the replicate
+//!   index, never from scheduling order.
+//! - Replicate r starts from the point's prep r mod `preps_per_point`.
+
+use std::collections::HashMap;
+
+use cellsweep_solver::seed::{derive, COLLISION_TAG, PREP_TAG};
+use cellsweep_solver::{Config, Params, Protocol, SOLVER_VERSION};
+use cellsweep_store::{NewJob, NewPoint, NewPrep, NewSweep};
+use serde_json::{json, Value};
+
+use crate::sweep::Sweep;
+
+/// FNV-1a, 64 bits: a stable hash of canonical text (not for security).
+pub fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The identity of a prep: single-cell parameters (no sigma, no g) and the stages it runs.
+pub fn prep_key(params: &Params, protocol: &Protocol) -> String {
+    let mut p = serde_json::to_value(params).expect("params serialize");
+    if let Value::Object(map) = &mut p {
+        map.remove("sigma");
+        map.remove("g");
+    }
+    json!({
+        "params": p,
+        "single_lattice": protocol.single_lattice,
+        "relax_time": protocol.relax_time,
+        "free_time": protocol.free_time,
+        "record_interval": protocol.record_interval,
+        "check_interval": protocol.check_interval,
+    })
+    .to_string()
+}
+
+/// Seed of prep `index` with identity `key` in a sweep seeded `sweep_seed`.
+pub fn prep_seed(sweep_seed: u64, key: &str, index: u32) -> u64 {
+    derive(&[sweep_seed, PREP_TAG, fnv1a(key), index as u64])
+}
+
+/// Seed of replicate `replicate` of the point with parameters `params`.
+pub fn job_seed(sweep_seed: u64, params: &Params, replicate: u32) -> u64 {
+    let key = serde_json::to_string(params).expect("params serialize");
+    derive(&[sweep_seed, COLLISION_TAG, fnv1a(&key), replicate as u64])
+}
+
+/// The rows to register for `sweep`, read from `source`.
+pub fn plan(sweep: &Sweep, source: &str) -> NewSweep {
+    let mut preps: Vec<NewPrep> = Vec::new();
+    let mut prep_index: HashMap<(String, u32), usize> = HashMap::new();
+    let mut points = Vec::new();
+    for params in sweep.points() {
+        let key = prep_key(&params, &sweep.protocol);
+        let config = Config {
+            params: params.clone(),
+            protocol: sweep.protocol.clone(),
+            classifier: sweep.classifier.clone(),
+        };
+        let config_json = serde_json::to_string(&config).expect("config serializes");
+        let mut own_preps = Vec::new();
+        for i in 0..sweep.preps_per_point {
+            let idx = *prep_index.entry((key.clone(), i)).or_insert_with(|| {
+                preps.push(NewPrep {
+                    key: key.clone(),
+                    seed: prep_seed(sweep.seed, &key, i),
+                    config: config_json.clone(),
+                });
+                preps.len() - 1
+            });
+            own_preps.push(idx);
+        }
+        let jobs = (0..sweep.replicates)
+            .map(|r| NewJob {
+                replicate: r,
+                seed: job_seed(sweep.seed, &params, r),
+                prep: own_preps[(r % sweep.preps_per_point) as usize],
+            })
+            .collect();
+        points.push(NewPoint {
+            alpha: params.alpha,
+            beta: params.beta,
+            spacing: params.L,
+            sigma: params.sigma,
+            config: config_json,
+            jobs,
+        });
+    }
+    NewSweep {
+        name: sweep.name.clone(),
+        spec: sweep.canonical_json(),
+        source: source.to_string(),
+        solver_version: SOLVER_VERSION.to_string(),
+        preps,
+        points,
+    }
+}

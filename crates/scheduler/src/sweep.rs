@@ -1,0 +1,416 @@
+//! Sweep files (`sweeps/*.toml`): what to run, parsed with one-line errors.
+//!
+//! ```toml
+//! name = "paper-L90"
+//! seed = 1
+//! replicates = 96
+//! preps_per_point = 1                      # optional
+//! geometry = "two"                         # or "one"
+//! [grid]
+//! alpha = { from = 0.10, to = 0.20, step = 0.02 }   # or a list, or one number
+//! beta  = { from = 10, to = 50, step = 4 }
+//! L     = [90]
+//! sigma = [5]
+//! [params]                                 # optional: any other SPEC parameter
+//! tau = 100
+//! [protocol]                               # optional: lattices, stage durations (tau0)
+//! single_lattice = [200, 200]
+//! collide_time = 400
+//! [classifier]                             # optional: classifier settings
+//! sustain_window = 25
+//! [run]                                    # optional: fault handling
+//! job_timeout = 3600                       # seconds per job before the worker is killed
+//! max_attempts = 3
+//! ```
+
+use std::path::Path;
+
+use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
+use serde::{Deserialize, Serialize};
+use toml::{Table, Value};
+
+use crate::error::SweepError;
+use crate::grid::{parse_axis, Axis};
+
+/// Fault handling of a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunSettings {
+    /// Seconds a worker may spend on one job before it is killed and the job retried.
+    pub job_timeout: f64,
+    /// Attempts of a job (crash, timeout or error) before it is marked failed.
+    pub max_attempts: u32,
+}
+
+impl Default for RunSettings {
+    fn default() -> Self {
+        RunSettings {
+            job_timeout: 3600.0,
+            max_attempts: 3,
+        }
+    }
+}
+
+/// The four grid axes of the paper.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Grid {
+    pub alpha: Vec<f64>,
+    pub beta: Vec<f64>,
+    pub L: Vec<u32>,
+    pub sigma: Vec<f64>,
+}
+
+/// A parsed, validated sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sweep {
+    pub name: String,
+    pub seed: u64,
+    pub replicates: u32,
+    pub preps_per_point: u32,
+    pub grid: Grid,
+    /// Every parameter that is not a grid axis (geometry included).
+    pub params: Params,
+    pub protocol: Protocol,
+    pub classifier: ClassifierSettings,
+    /// Not part of the sweep's identity: changing it does not make a different sweep.
+    #[serde(skip)]
+    pub run: RunSettings,
+}
+
+const TOP_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "seed",
+    "replicates",
+    "preps_per_point",
+    "geometry",
+    "grid",
+    "params",
+    "protocol",
+    "classifier",
+    "run",
+];
+const GRID_KEYS: &[&str] = &["alpha", "beta", "L", "sigma"];
+
+/// A number (integer or float) from a TOML value.
+pub(crate) fn number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Integer(i) => Some(*i as f64),
+        Value::Float(f) => Some(*f),
+        _ => None,
+    }
+}
+
+struct Ctx<'a> {
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, key: impl Into<String>, problem: impl Into<String>) -> SweepError {
+        SweepError::new(self.file, key, problem)
+    }
+
+    fn unknown_keys(&self, table: &Table, prefix: &str, known: &[&str]) -> Result<(), SweepError> {
+        for key in table.keys() {
+            if !known.contains(&key.as_str()) {
+                return Err(self.err(
+                    format!("{prefix}{key}"),
+                    format!("unknown key (expected one of: {})", known.join(", ")),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn table<'t>(&self, top: &'t Table, key: &str) -> Result<Option<&'t Table>, SweepError> {
+        match top.get(key) {
+            None => Ok(None),
+            Some(Value::Table(t)) => Ok(Some(t)),
+            Some(_) => Err(self.err(key, "must be a table")),
+        }
+    }
+
+    fn uint(&self, v: &Value, key: &str, min: i64) -> Result<u64, SweepError> {
+        match v {
+            Value::Integer(i) if *i >= min => Ok(*i as u64),
+            Value::Integer(i) => Err(self.err(key, format!("{i} must be at least {min}"))),
+            _ => Err(self.err(key, "must be a whole number")),
+        }
+    }
+
+    fn num(&self, v: &Value, key: &str) -> Result<f64, SweepError> {
+        number(v)
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| self.err(key, "must be a number"))
+    }
+}
+
+impl Sweep {
+    /// Read and validate a sweep file.
+    pub fn load(path: &Path) -> Result<Sweep, SweepError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SweepError::new(&file, "file", format!("cannot read: {e}")))?;
+        Sweep::parse(&text, &file)
+    }
+
+    /// Parse and validate sweep-file text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Sweep, SweepError> {
+        let cx = Ctx { file };
+        let top: Table = text.parse().map_err(|e: toml::de::Error| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
+                .map_or("syntax".to_string(), |l| format!("line {l}"));
+            cx.err(
+                line,
+                e.message()
+                    .lines()
+                    .next()
+                    .unwrap_or("malformed TOML")
+                    .to_string(),
+            )
+        })?;
+        cx.unknown_keys(&top, "", TOP_KEYS)?;
+
+        let name = match top.get("name") {
+            Some(Value::String(s)) if !s.trim().is_empty() => s.trim().to_string(),
+            Some(_) => return Err(cx.err("name", "must be a non-empty string")),
+            None => return Err(cx.err("name", "missing")),
+        };
+        let seed = match top.get("seed") {
+            Some(v) => cx.uint(v, "seed", 0)?,
+            None => return Err(cx.err("seed", "missing")),
+        };
+        let replicates = top
+            .get("replicates")
+            .map_or(Ok(96), |v| cx.uint(v, "replicates", 1))?;
+        let preps_per_point = top
+            .get("preps_per_point")
+            .map_or(Ok(1), |v| cx.uint(v, "preps_per_point", 1))?;
+        if preps_per_point > replicates {
+            return Err(cx.err(
+                "preps_per_point",
+                format!("{preps_per_point} exceeds replicates = {replicates}"),
+            ));
+        }
+        let mut params = Params::default();
+        if let Some(g) = top.get("geometry") {
+            params.geometry = match g.as_str().map(str::parse::<Geometry>) {
+                Some(Ok(geo)) => geo,
+                _ => return Err(cx.err("geometry", "must be \"one\" or \"two\"")),
+            };
+        }
+
+        let grid_table = cx
+            .table(&top, "grid")?
+            .ok_or_else(|| cx.err("grid", "missing"))?;
+        cx.unknown_keys(grid_table, "grid.", GRID_KEYS)?;
+        let axis = |key: &str| -> Result<Axis, SweepError> {
+            let full = format!("grid.{key}");
+            let v = grid_table
+                .get(key)
+                .ok_or_else(|| cx.err(&full, "missing"))?;
+            parse_axis(v).map_err(|p| cx.err(&full, p))
+        };
+        let spacing: Vec<u32> = {
+            let values = axis("L")?.values;
+            let mut out = Vec::new();
+            for l in values {
+                if l.fract() != 0.0 || l < 0.0 {
+                    return Err(cx.err(
+                        "grid.L",
+                        format!("{l} is not a whole number of lattice sites"),
+                    ));
+                }
+                if params.geometry == Geometry::Two && (l as u64) % 2 != 0 {
+                    return Err(cx.err(
+                        "grid.L",
+                        format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
+                    ));
+                }
+                out.push(l as u32);
+            }
+            out
+        };
+        let grid = Grid {
+            alpha: axis("alpha")?.values,
+            beta: axis("beta")?.values,
+            L: spacing,
+            sigma: axis("sigma")?.values,
+        };
+
+        if let Some(t) = cx.table(&top, "params")? {
+            for (key, v) in t {
+                let full = format!("params.{key}");
+                if GRID_KEYS.contains(&key.as_str()) {
+                    return Err(cx.err(full, "is a grid axis: set it in [grid]"));
+                }
+                if key == "geometry" {
+                    return Err(cx.err(full, "set geometry at the top level"));
+                }
+                let x = cx.num(v, &full)?;
+                params.set(key, x).map_err(|p| cx.err(&full, p))?;
+            }
+        }
+
+        let mut protocol = Protocol::default();
+        if let Some(t) = cx.table(&top, "protocol")? {
+            cx.unknown_keys(
+                t,
+                "protocol.",
+                &[
+                    "single_lattice",
+                    "pair_lattice",
+                    "relax_time",
+                    "free_time",
+                    "collide_time",
+                    "record_interval",
+                    "check_interval",
+                    "stop_early",
+                ],
+            )?;
+            for (key, v) in t {
+                let full = format!("protocol.{key}");
+                match key.as_str() {
+                    "single_lattice" | "pair_lattice" => {
+                        let pair = match v.as_array().map(|a| a.as_slice()) {
+                            Some([a, b]) => [
+                                cx.uint(a, &full, 2)? as usize,
+                                cx.uint(b, &full, 2)? as usize,
+                            ],
+                            _ => return Err(cx.err(full, "must be [NX, NY]")),
+                        };
+                        if key == "single_lattice" {
+                            protocol.single_lattice = pair;
+                            if t.get("pair_lattice").is_none() {
+                                protocol.pair_lattice = [2 * pair[0], pair[1]];
+                            }
+                        } else {
+                            protocol.pair_lattice = pair;
+                        }
+                    }
+                    "stop_early" => {
+                        protocol.stop_early = v
+                            .as_bool()
+                            .ok_or_else(|| cx.err(&full, "must be true or false"))?
+                    }
+                    _ => {
+                        let x = cx.num(v, &full)?;
+                        *match key.as_str() {
+                            "relax_time" => &mut protocol.relax_time,
+                            "free_time" => &mut protocol.free_time,
+                            "collide_time" => &mut protocol.collide_time,
+                            "record_interval" => &mut protocol.record_interval,
+                            _ => &mut protocol.check_interval,
+                        } = x;
+                    }
+                }
+            }
+        }
+
+        let mut classifier = ClassifierSettings::default();
+        if let Some(t) = cx.table(&top, "classifier")? {
+            let known = [
+                "contact_overlap",
+                "speed_fraction",
+                "min_speed",
+                "velocity_window",
+                "sustain_window",
+                "walk_past_margin",
+            ];
+            cx.unknown_keys(t, "classifier.", &known)?;
+            for (key, v) in t {
+                let full = format!("classifier.{key}");
+                let x = cx.num(v, &full)?;
+                if x < 0.0 {
+                    return Err(cx.err(full, format!("{x} must be >= 0")));
+                }
+                *match key.as_str() {
+                    "contact_overlap" => &mut classifier.contact_overlap,
+                    "speed_fraction" => &mut classifier.speed_fraction,
+                    "min_speed" => &mut classifier.min_speed,
+                    "velocity_window" => &mut classifier.velocity_window,
+                    "sustain_window" => &mut classifier.sustain_window,
+                    _ => &mut classifier.walk_past_margin,
+                } = x;
+            }
+        }
+
+        let mut run = RunSettings::default();
+        if let Some(t) = cx.table(&top, "run")? {
+            cx.unknown_keys(t, "run.", &["job_timeout", "max_attempts"])?;
+            if let Some(v) = t.get("job_timeout") {
+                run.job_timeout = cx.num(v, "run.job_timeout")?;
+                if run.job_timeout <= 0.0 {
+                    return Err(cx.err("run.job_timeout", "must be > 0 seconds"));
+                }
+            }
+            if let Some(v) = t.get("max_attempts") {
+                run.max_attempts = cx.uint(v, "run.max_attempts", 1)? as u32;
+            }
+        }
+
+        let sweep = Sweep {
+            name,
+            seed,
+            replicates: replicates as u32,
+            preps_per_point: preps_per_point as u32,
+            grid,
+            params,
+            protocol,
+            classifier,
+            run,
+        };
+        // Every point must be a valid model: the first invalid one names the key to fix.
+        for point in sweep.points() {
+            sweep.protocol.validate(&point).map_err(|e| {
+                let name = e.parameter();
+                let key = if GRID_KEYS.contains(&name) {
+                    format!("grid.{name}")
+                } else if name.contains("lattice")
+                    || name.ends_with("_time")
+                    || name.ends_with("_interval")
+                {
+                    format!("protocol.{name}")
+                } else {
+                    format!("params.{name}")
+                };
+                cx.err(
+                    key,
+                    format!(
+                        "at alpha = {}, beta = {}, L = {}, sigma = {}: {e}",
+                        point.alpha, point.beta, point.L, point.sigma
+                    ),
+                )
+            })?;
+        }
+        Ok(sweep)
+    }
+
+    /// Parameters of every grid point, ordered by L, sigma, alpha, beta.
+    pub fn points(&self) -> Vec<Params> {
+        let mut out = Vec::new();
+        for &l in &self.grid.L {
+            for &sigma in &self.grid.sigma {
+                for &alpha in &self.grid.alpha {
+                    for &beta in &self.grid.beta {
+                        out.push(Params {
+                            alpha,
+                            beta,
+                            L: l,
+                            sigma,
+                            ..self.params.clone()
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Canonical JSON of the sweep's definition (everything but the run settings).
+    pub fn canonical_json(&self) -> String {
+        serde_json::to_string(self).expect("a sweep serializes")
+    }
+}

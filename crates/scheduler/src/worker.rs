@@ -1,0 +1,146 @@
+//! The worker side: `cellsweep worker` reads requests line by line, runs the solver, writes one
+//! response line per request, and keeps the last few preps it saw or made.
+//!
+//! Test hooks (environment variables, used by the test suite to fake faults in real processes):
+//! `CELLSWEEP_TEST_CRASH_TASK=ID` aborts the process on collision task ID while its attempt number
+//! is at most `CELLSWEEP_TEST_CRASH_ATTEMPTS` (default 1); `CELLSWEEP_TEST_HANG_TASK=ID` makes the
+//! worker hang on collision task ID (first attempt only).
+
+use std::collections::VecDeque;
+use std::io::{BufRead, Write};
+use std::time::Instant;
+
+use cellsweep_solver::{collide, prepare, Prep, Silent, TrajectoryResult};
+
+use crate::wire::{PrepPayload, Request, Response};
+
+/// Preps kept per worker.
+const CACHE: usize = 4;
+
+fn env_i64(name: &str) -> Option<i64> {
+    std::env::var(name).ok()?.trim().parse().ok()
+}
+
+fn test_hooks(req: &Request) {
+    if let Request::Collide { task, attempt, .. } = req {
+        if env_i64("CELLSWEEP_TEST_CRASH_TASK") == Some(*task) {
+            let upto = env_i64("CELLSWEEP_TEST_CRASH_ATTEMPTS").unwrap_or(1);
+            if (*attempt as i64) <= upto {
+                eprintln!("test hook: crashing on task {task}, attempt {attempt}");
+                std::process::abort();
+            }
+        }
+        if env_i64("CELLSWEEP_TEST_HANG_TASK") == Some(*task) && *attempt == 1 {
+            loop {
+                std::thread::sleep(std::time::Duration::from_secs(3600));
+            }
+        }
+    }
+}
+
+/// Serve requests from `input` until it closes.
+pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()> {
+    let mut cache: VecDeque<(i64, Prep)> = VecDeque::new();
+    for line in input.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let response = match serde_json::from_str::<Request>(&line) {
+            Ok(req) => {
+                test_hooks(&req);
+                let task = req.task();
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, &mut cache)))
+                    .unwrap_or_else(|panic| {
+                        let msg = panic
+                            .downcast_ref::<String>()
+                            .cloned()
+                            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                            .unwrap_or_else(|| "unknown panic".into());
+                        Response::Failed {
+                            task,
+                            error: format!("solver panicked: {msg}"),
+                        }
+                    })
+            }
+            Err(e) => Response::Failed {
+                task: -1,
+                error: format!("malformed request: {e}"),
+            },
+        };
+        writeln!(output, "{}", serde_json::to_string(&response)?)?;
+        output.flush()?;
+    }
+    Ok(())
+}
+
+fn remember(cache: &mut VecDeque<(i64, Prep)>, id: i64, prep: Prep) {
+    cache.retain(|(k, _)| *k != id);
+    if cache.len() == CACHE {
+        cache.pop_front();
+    }
+    cache.push_back((id, prep));
+}
+
+fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
+    let started = Instant::now();
+    match req {
+        Request::Prep {
+            task, config, seed, ..
+        } => match prepare(&config.params, &config.protocol, seed, &mut Silent) {
+            Ok(prep) => {
+                let payload = PrepPayload::from_prep(&prep);
+                remember(cache, task, prep);
+                Response::Prep {
+                    task,
+                    prep: payload,
+                    wall_s: started.elapsed().as_secs_f64(),
+                }
+            }
+            Err(e) => Response::Failed {
+                task,
+                error: e.to_string(),
+            },
+        },
+        Request::Collide {
+            task,
+            config,
+            seed,
+            prep_id,
+            prep,
+            ..
+        } => {
+            if let Some(payload) = prep {
+                match payload.to_prep() {
+                    Ok(p) => remember(cache, prep_id, p),
+                    Err(error) => return Response::Failed { task, error },
+                }
+            }
+            let Some((_, prep)) = cache.iter().find(|(k, _)| *k == prep_id) else {
+                return Response::Failed {
+                    task,
+                    error: format!("prep {prep_id} was not sent to this worker"),
+                };
+            };
+            match collide(
+                &config.params,
+                &config.protocol,
+                &config.classifier,
+                prep,
+                seed,
+                &mut Silent,
+                false,
+            ) {
+                Ok(c) => Response::Collide {
+                    task,
+                    result: Box::new(TrajectoryResult::new(&config, prep, seed, Some(&c))),
+                    wall_s: started.elapsed().as_secs_f64(),
+                },
+                Err(e) => Response::Failed {
+                    task,
+                    error: e.to_string(),
+                },
+            }
+        }
+    }
+}

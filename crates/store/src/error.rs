@@ -1,0 +1,40 @@
+//! Typed errors of the store; each names the database file or the sweep concerned.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum StoreError {
+    #[error("no database at {0} (run a sweep first, or pass --db PATH)")]
+    Missing(PathBuf),
+    #[error("{path} is not a cellsweep database ({reason}); it was left untouched")]
+    NotOurs { path: PathBuf, reason: String },
+    #[error("{path} is corrupt or not a database ({reason}); it was left untouched")]
+    Corrupt { path: PathBuf, reason: String },
+    #[error("{path} has schema version {found}, this build reads version {expected}")]
+    SchemaVersion {
+        path: PathBuf,
+        found: String,
+        expected: u32,
+    },
+    #[error(
+        "a different sweep named {name:?} is already registered; rename the new one, or pass \
+         --replace to keep the old one's results under {archived:?} and register this one"
+    )]
+    SweepConflict { name: String, archived: String },
+    #[error("no sweep named {0:?} in the store")]
+    UnknownSweep(String),
+    #[error("{what} {id} is {found}, not {expected} (the store refuses the transition)")]
+    BadTransition {
+        what: &'static str,
+        id: i64,
+        found: String,
+        expected: &'static str,
+    },
+    #[error("database error: {0}")]
+    Sql(#[from] rusqlite::Error),
+    #[error("stored JSON is malformed: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
+pub type Result<T, E = StoreError> = std::result::Result<T, E>;

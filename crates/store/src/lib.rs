@@ -1,0 +1,21 @@
+//! # cellsweep-store
+//!
+//! The SQLite store of cellsweep (rusqlite, bundled SQLite, WAL mode so that `status` can read
+//! while a sweep runs): registered sweeps, their grid points, cached preps, collision jobs with
+//! an explicit lifecycle, and one result per job. Every result is committed in its own
+//! transaction together with its job's state change, so nothing is lost or counted twice.
+//! The schema is in [`schema::DDL`].
+
+pub mod error;
+pub mod lifecycle;
+pub mod schema;
+pub mod status;
+pub mod store;
+
+pub use error::{Result, StoreError};
+pub use lifecycle::JobState;
+pub use status::{OutcomeCounts, PointCounts, StateCounts, SweepStatus};
+pub use store::{
+    bytes_to_f64s, f64s_to_bytes, now, JobTask, NewJob, NewPoint, NewPrep, NewSweep, PrepRecord,
+    PrepTask, Registration, ResultRecord, Store,
+};

@@ -1,0 +1,99 @@
+//! The store's schema. Documented for users in the README ("The store").
+
+/// Version of the layout below; bumped on incompatible changes.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Identifies a cellsweep database in its `meta` table.
+pub const APPLICATION: &str = "cellsweep";
+
+pub const DDL: &str = r#"
+CREATE TABLE meta (
+    key   TEXT PRIMARY KEY,
+    value TEXT NOT NULL
+);
+
+-- One row per registered sweep; `spec` is the canonical JSON of the expanded definition.
+CREATE TABLE sweeps (
+    id         INTEGER PRIMARY KEY,
+    name       TEXT NOT NULL UNIQUE,
+    spec       TEXT NOT NULL,
+    source     TEXT,
+    created_at REAL NOT NULL
+);
+
+-- Grid points: the four swept parameters, and every parameter as JSON.
+CREATE TABLE points (
+    id       INTEGER PRIMARY KEY,
+    sweep_id INTEGER NOT NULL REFERENCES sweeps(id),
+    idx      INTEGER NOT NULL,
+    alpha    REAL NOT NULL,
+    beta     REAL NOT NULL,
+    L        INTEGER NOT NULL,
+    sigma    REAL NOT NULL,
+    params   TEXT NOT NULL,
+    UNIQUE (sweep_id, idx)
+);
+
+-- Prepped cells (stages 1-4), shared by every point and sweep with the same single-cell
+-- parameters, prep protocol, seed and solver version.
+CREATE TABLE preps (
+    id             INTEGER PRIMARY KEY,
+    key            TEXT NOT NULL,
+    seed           INTEGER NOT NULL,
+    solver_version TEXT NOT NULL,
+    config         TEXT NOT NULL,
+    state          TEXT NOT NULL CHECK (state IN ('pending', 'running', 'done', 'failed')),
+    attempts       INTEGER NOT NULL DEFAULT 0,
+    error          TEXT,
+    verdict        TEXT CHECK (verdict IN ('ok', 'unstable', 'breakup')),
+    verdict_time   REAL,
+    free_speed     REAL,
+    nx             INTEGER,
+    ny             INTEGER,
+    phi            BLOB,
+    p              BLOB,
+    summary        TEXT,
+    wall_s         REAL,
+    finished_at    REAL,
+    UNIQUE (key, seed, solver_version)
+);
+
+-- One collision trajectory per (point, replicate, solver version).
+CREATE TABLE jobs (
+    id             INTEGER PRIMARY KEY,
+    point_id       INTEGER NOT NULL REFERENCES points(id),
+    replicate      INTEGER NOT NULL,
+    solver_version TEXT NOT NULL,
+    prep_id        INTEGER NOT NULL REFERENCES preps(id),
+    seed           INTEGER NOT NULL,
+    state          TEXT NOT NULL CHECK (state IN ('pending', 'running', 'done', 'failed')),
+    attempts       INTEGER NOT NULL DEFAULT 0,
+    error          TEXT,
+    started_at     REAL,
+    finished_at    REAL,
+    UNIQUE (point_id, replicate, solver_version)
+);
+
+-- Exactly one result per finished job.
+CREATE TABLE results (
+    job_id          INTEGER PRIMARY KEY REFERENCES jobs(id),
+    solver_version  TEXT NOT NULL,
+    verdict         TEXT NOT NULL CHECK (verdict IN ('ok', 'unstable', 'breakup')),
+    outcome         TEXT CHECK (outcome IN ('train', 'walk_past', 'reversal', 'undetermined')),
+    contact_time    REAL,
+    decision_time   REAL,
+    free_speed      REAL,
+    threshold_speed REAL,
+    attachment_1    TEXT,
+    attachment_2    TEXT,
+    collision_steps INTEGER,
+    wall_s          REAL,
+    classifier      TEXT NOT NULL,
+    record          TEXT NOT NULL,
+    finished_at     REAL NOT NULL
+);
+
+CREATE INDEX jobs_by_point ON jobs(point_id, solver_version, state);
+CREATE INDEX jobs_by_prep ON jobs(prep_id, state);
+CREATE INDEX points_by_sweep ON points(sweep_id);
+"#;

@@ -1,0 +1,230 @@
+//! Read-side queries: progress of sweeps and outcome counts per point.
+
+use rusqlite::params;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::store::Store;
+
+/// Jobs of one sweep and solver version, by state.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct StateCounts {
+    pub pending: i64,
+    pub running: i64,
+    pub done: i64,
+    pub failed: i64,
+}
+
+impl StateCounts {
+    pub fn total(&self) -> i64 {
+        self.pending + self.running + self.done + self.failed
+    }
+}
+
+/// Results by label: the four outcomes, and jobs decided by a prep verdict.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct OutcomeCounts {
+    pub train: i64,
+    pub walk_past: i64,
+    pub reversal: i64,
+    pub undetermined: i64,
+    pub unstable: i64,
+    pub breakup: i64,
+}
+
+impl OutcomeCounts {
+    fn add(&mut self, verdict: &str, outcome: Option<&str>, n: i64) {
+        let slot = match (verdict, outcome) {
+            (_, Some("train")) => &mut self.train,
+            (_, Some("walk_past")) => &mut self.walk_past,
+            (_, Some("reversal")) => &mut self.reversal,
+            (_, Some("undetermined")) => &mut self.undetermined,
+            ("unstable", _) => &mut self.unstable,
+            _ => &mut self.breakup,
+        };
+        *slot += n;
+    }
+}
+
+/// Progress of one sweep under one solver version.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepStatus {
+    pub sweep: String,
+    pub solver_version: String,
+    pub jobs: StateCounts,
+    pub outcomes: OutcomeCounts,
+    pub preps_done: i64,
+    pub preps_total: i64,
+    /// Jobs finished per second over the latest ten minutes of activity.
+    pub jobs_per_s: Option<f64>,
+    /// Seconds to finish the remaining jobs at that rate.
+    pub eta_s: Option<f64>,
+    /// When the latest job finished (Unix seconds).
+    pub last_finished: Option<f64>,
+}
+
+/// Outcome counts of one grid point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct PointCounts {
+    pub point_id: i64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub L: u32,
+    pub sigma: f64,
+    pub outcomes: OutcomeCounts,
+    pub jobs: StateCounts,
+    /// Mean free speed of the point's prepped cells.
+    pub free_speed: Option<f64>,
+}
+
+impl Store {
+    /// Names of the registered sweeps, oldest first.
+    pub fn sweep_names(&self) -> Result<Vec<String>> {
+        let mut q = self.conn.prepare("SELECT name FROM sweeps ORDER BY id")?;
+        let rows = q.query_map([], |r| r.get(0))?;
+        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+    }
+
+    /// Progress of every sweep under every solver version it has jobs for.
+    pub fn status(&self) -> Result<Vec<SweepStatus>> {
+        let mut out = Vec::new();
+        let mut pairs = self.conn.prepare(
+            "SELECT DISTINCT s.id, s.name, j.solver_version FROM sweeps s
+             JOIN points p ON p.sweep_id = s.id JOIN jobs j ON j.point_id = p.id
+             ORDER BY s.id, j.solver_version",
+        )?;
+        let pairs: Vec<(i64, String, String)> = pairs
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
+            .collect::<rusqlite::Result<_>>()?;
+        for (sweep_id, name, version) in pairs {
+            let jobs = self.state_counts(sweep_id, &version, None)?;
+            let outcomes = self.outcome_counts(sweep_id, &version, None)?;
+            let (preps_done, preps_total): (i64, i64) = self.conn.query_row(
+                "SELECT COALESCE(SUM(state = 'done'), 0), COUNT(*) FROM preps WHERE id IN (
+                     SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
+                     WHERE p.sweep_id = ?1 AND j.solver_version = ?2)",
+                params![sweep_id, version],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )?;
+            let last: Option<f64> = self.conn.query_row(
+                "SELECT MAX(j.finished_at) FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'done'",
+                params![sweep_id, version],
+                |r| r.get(0),
+            )?;
+            let jobs_per_s = match last {
+                Some(last) => {
+                    let (n, first): (i64, Option<f64>) = self.conn.query_row(
+                        "SELECT COUNT(*), MIN(j.started_at) FROM jobs j JOIN points p ON p.id = j.point_id
+                         WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'done'
+                           AND j.finished_at >= ?3 AND j.started_at IS NOT NULL",
+                        params![sweep_id, version, last - 600.0],
+                        |r| Ok((r.get(0)?, r.get(1)?)),
+                    )?;
+                    first
+                        .filter(|&f| last > f && n > 0)
+                        .map(|f| n as f64 / (last - f))
+                }
+                None => None,
+            };
+            let remaining = (jobs.pending + jobs.running) as f64;
+            out.push(SweepStatus {
+                sweep: name,
+                solver_version: version,
+                eta_s: jobs_per_s.map(|r| remaining / r),
+                jobs,
+                outcomes,
+                preps_done,
+                preps_total,
+                jobs_per_s,
+                last_finished: last,
+            });
+        }
+        Ok(out)
+    }
+
+    fn state_counts(
+        &self,
+        sweep_id: i64,
+        version: &str,
+        point: Option<i64>,
+    ) -> Result<StateCounts> {
+        let mut q = self.conn.prepare_cached(
+            "SELECT j.state, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
+             GROUP BY j.state",
+        )?;
+        let mut c = StateCounts::default();
+        let rows = q.query_map(params![sweep_id, version, point], |r| {
+            Ok((r.get::<_, String>(0)?, r.get::<_, i64>(1)?))
+        })?;
+        for row in rows {
+            let (state, n) = row?;
+            match state.as_str() {
+                "pending" => c.pending = n,
+                "running" => c.running = n,
+                "done" => c.done = n,
+                _ => c.failed = n,
+            }
+        }
+        Ok(c)
+    }
+
+    fn outcome_counts(
+        &self,
+        sweep_id: i64,
+        version: &str,
+        point: Option<i64>,
+    ) -> Result<OutcomeCounts> {
+        let mut q = self.conn.prepare_cached(
+            "SELECT r.verdict, r.outcome, COUNT(*) FROM results r
+             JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND r.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
+             GROUP BY r.verdict, r.outcome",
+        )?;
+        let mut c = OutcomeCounts::default();
+        let rows = q.query_map(params![sweep_id, version, point], |r| {
+            Ok((
+                r.get::<_, String>(0)?,
+                r.get::<_, Option<String>>(1)?,
+                r.get::<_, i64>(2)?,
+            ))
+        })?;
+        for row in rows {
+            let (verdict, outcome, n) = row?;
+            c.add(&verdict, outcome.as_deref(), n);
+        }
+        Ok(c)
+    }
+
+    /// Outcome counts of every point of a sweep under `version`, in grid order.
+    pub fn point_counts(&self, sweep_id: i64, version: &str) -> Result<Vec<PointCounts>> {
+        let mut q = self.conn.prepare(
+            "SELECT id, alpha, beta, L, sigma FROM points WHERE sweep_id = ?1 ORDER BY idx",
+        )?;
+        let points: Vec<(i64, f64, f64, u32, f64)> = q
+            .query_map([sweep_id], |r| {
+                Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?))
+            })?
+            .collect::<rusqlite::Result<_>>()?;
+        let mut speed = self.conn.prepare_cached(
+            "SELECT AVG(free_speed) FROM preps WHERE state = 'done' AND id IN (
+                 SELECT prep_id FROM jobs WHERE point_id = ?1 AND solver_version = ?2)",
+        )?;
+        let mut out = Vec::with_capacity(points.len());
+        for (id, alpha, beta, l, sigma) in points {
+            out.push(PointCounts {
+                point_id: id,
+                alpha,
+                beta,
+                L: l,
+                sigma,
+                outcomes: self.outcome_counts(sweep_id, version, Some(id))?,
+                jobs: self.state_counts(sweep_id, version, Some(id))?,
+                free_speed: speed.query_row(params![id, version], |r| r.get(0))?,
+            });
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,85 @@
+//! `cellsweep run`: register a sweep and run (or resume) it with local worker processes.
+
+use std::time::Duration;
+
+use anyhow::Context;
+use cellsweep_scheduler::{plan, run_sweep, Ending, RunOptions, Sweep, WorkerCommand};
+use cellsweep_solver::SOLVER_VERSION;
+use cellsweep_store::Store;
+
+use crate::cli::RunArgs;
+use crate::progress::SweepBar;
+
+pub fn run(args: RunArgs) -> anyhow::Result<i32> {
+    let sweep = Sweep::load(&args.sweep)?;
+    let new = plan(&sweep, &args.sweep.display().to_string());
+    let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
+    let mut store = Store::open_or_create(&args.db.db)?;
+    let reg = store.register(&new, args.replace)?;
+    if let Some(old) = &reg.archived_as {
+        println!(
+            "the previous sweep {:?} keeps its results as {old:?}",
+            sweep.name
+        );
+    }
+    for (version, n) in &reg.other_versions {
+        println!(
+            "note: the store holds {n} results of {:?} from {version}; this run is {SOLVER_VERSION}, \
+             and the two stay apart",
+            sweep.name
+        );
+    }
+    println!(
+        "{} sweep {:?}: {} points x {} replicates = {} jobs, {} preps, in {}",
+        if reg.created {
+            "registered"
+        } else {
+            "resuming"
+        },
+        sweep.name,
+        new.points.len(),
+        sweep.replicates,
+        n_jobs,
+        new.preps.len(),
+        args.db.db.display()
+    );
+
+    let workers = args
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let opts = RunOptions {
+        workers,
+        job_timeout: Duration::from_secs_f64(
+            args.job_timeout.unwrap_or(sweep.run.job_timeout).max(0.001),
+        ),
+        max_attempts: args.max_attempts.unwrap_or(sweep.run.max_attempts).max(1),
+        worker: WorkerCommand {
+            exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
+            args: vec!["worker".into()],
+        },
+    };
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")?;
+    let mut bar = SweepBar::new();
+    let report = runtime.block_on(run_sweep(
+        &mut store,
+        reg.sweep_id,
+        SOLVER_VERSION,
+        opts,
+        &mut bar,
+    ));
+    bar.finish();
+    let report = report?;
+
+    super::status::print_point_counts(&store, reg.sweep_id, &sweep.name)?;
+    let p = &report.progress;
+    if p.failed > 0 {
+        println!("{} jobs failed after retries; `cellsweep status` shows them, the store keeps their errors", p.failed);
+    }
+    Ok(match report.ending {
+        Ending::Finished => 0,
+        Ending::Interrupted => 130,
+    })
+}

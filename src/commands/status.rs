@@ -1,0 +1,115 @@
+//! `cellsweep status`: progress of every sweep in the store (works while a sweep runs).
+
+use cellsweep_solver::SOLVER_VERSION;
+use cellsweep_store::{OutcomeCounts, Store};
+
+use crate::cli::StatusArgs;
+
+fn fmt_duration(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    match s {
+        0..=59 => format!("{s}s"),
+        60..=3599 => format!("{}m{:02}s", s / 60, s % 60),
+        _ => format!("{}h{:02}m", s / 3600, (s % 3600) / 60),
+    }
+}
+
+pub fn outcome_line(o: &OutcomeCounts) -> String {
+    let mut s = format!(
+        "train {} · walk_past {} · reversal {} · undetermined {}",
+        o.train, o.walk_past, o.reversal, o.undetermined
+    );
+    if o.unstable + o.breakup > 0 {
+        s += &format!(" · unstable {} · breakup {}", o.unstable, o.breakup);
+    }
+    s
+}
+
+pub fn run(args: StatusArgs) -> anyhow::Result<()> {
+    let store = Store::open(&args.db.db)?;
+    let all = store.status()?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&all)?);
+        return Ok(());
+    }
+    if all.is_empty() {
+        println!("no sweeps in {}", args.db.db.display());
+    }
+    for s in &all {
+        let j = &s.jobs;
+        let current = if s.solver_version == SOLVER_VERSION {
+            ""
+        } else {
+            " (another solver version)"
+        };
+        println!("{} [{}{}]", s.sweep, s.solver_version, current);
+        println!(
+            "  jobs     {} done / {} total · {} pending · {} running · {} failed",
+            j.done,
+            j.total(),
+            j.pending,
+            j.running,
+            j.failed
+        );
+        println!("  preps    {} / {} done", s.preps_done, s.preps_total);
+        println!("  outcomes {}", outcome_line(&s.outcomes));
+        match (s.jobs_per_s, s.eta_s) {
+            (Some(r), Some(eta)) if j.pending + j.running > 0 => {
+                println!(
+                    "  speed    {:.2} jobs/min · ETA {}",
+                    r * 60.0,
+                    fmt_duration(eta)
+                )
+            }
+            (Some(r), _) => println!("  speed    {:.2} jobs/min", r * 60.0),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Outcome counts of each point of a sweep, one line per point.
+pub fn print_point_counts(store: &Store, sweep_id: i64, name: &str) -> anyhow::Result<()> {
+    let points = store.point_counts(sweep_id, SOLVER_VERSION)?;
+    println!("outcome counts of {name:?} ({SOLVER_VERSION}):");
+    println!(
+        "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5}  {:>8} {:>7} {:>6}  {:>10}",
+        "alpha",
+        "beta",
+        "L",
+        "sigma",
+        "train",
+        "walk",
+        "rev",
+        "undet",
+        "unstable",
+        "breakup",
+        "failed",
+        "free speed"
+    );
+    for p in points {
+        let o = &p.outcomes;
+        let pending = p.jobs.pending + p.jobs.running;
+        println!(
+            "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5}  {:>8} {:>7} {:>6}  {:>10}{}",
+            p.alpha,
+            p.beta,
+            p.L,
+            p.sigma,
+            o.train,
+            o.walk_past,
+            o.reversal,
+            o.undetermined,
+            o.unstable,
+            o.breakup,
+            p.jobs.failed,
+            p.free_speed.map_or("-".into(), |v| format!("{v:.3}")),
+            if pending > 0 {
+                format!("  ({pending} to run)")
+            } else {
+                String::new()
+            }
+        );
+    }
+    Ok(())
+}

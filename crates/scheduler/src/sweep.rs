@@ -365,7 +365,23 @@ impl Sweep {
         // Every point must be a valid model: the first invalid one names the key to fix.
         for point in sweep.points() {
             sweep.protocol.validate(&point).map_err(|e| {
-                let name = e.parameter();
+                let mut name = e.parameter();
+                if matches!(e, cellsweep_solver::ParamError::Unstable { .. }) {
+                    // Blame the grid's alpha if its smallest value would be stable, else dt.
+                    let min_alpha = sweep
+                        .grid
+                        .alpha
+                        .iter()
+                        .copied()
+                        .fold(f64::INFINITY, f64::min);
+                    let calmer = Params {
+                        alpha: min_alpha,
+                        ..point.clone()
+                    };
+                    if calmer.diffusive_number() <= 0.25 {
+                        name = "alpha";
+                    }
+                }
                 let key = if GRID_KEYS.contains(&name) {
                     format!("grid.{name}")
                 } else if name.contains("lattice")

@@ -1,0 +1,187 @@
+//! The store: files it refuses, and the job lifecycle that never finishes a job twice.
+
+use cellsweep_store::{
+    JobState, NewJob, NewPoint, NewPrep, NewSweep, ResultRecord, Store, StoreError,
+};
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cellsweep-store-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join("db.sqlite")
+}
+
+fn sweep(spec: &str, version: &str) -> NewSweep {
+    NewSweep {
+        name: "s".into(),
+        spec: spec.into(),
+        source: "s.toml".into(),
+        solver_version: version.into(),
+        preps: vec![NewPrep {
+            key: "k".into(),
+            seed: u64::MAX - 3,
+            config: "{}".into(),
+        }],
+        points: vec![NewPoint {
+            alpha: 0.1,
+            beta: 10.0,
+            spacing: 90,
+            sigma: 5.0,
+            config: "{}".into(),
+            jobs: (0..3)
+                .map(|r| NewJob {
+                    replicate: r,
+                    seed: 1000 + r as u64,
+                    prep: 0,
+                })
+                .collect(),
+        }],
+    }
+}
+
+fn record(outcome: &str) -> ResultRecord {
+    ResultRecord {
+        verdict: "ok".into(),
+        outcome: Some(outcome.into()),
+        contact_time: Some(1.0),
+        decision_time: Some(2.0),
+        free_speed: Some(0.5),
+        threshold_speed: Some(0.125),
+        attachment: Some(["both".into(), "both".into()]),
+        collision_steps: 10,
+        wall_s: 0.1,
+        classifier: "{}".into(),
+        record: "{}".into(),
+    }
+}
+
+#[test]
+fn missing_corrupt_and_foreign_files_are_refused_untouched() {
+    let path = tmp("files");
+    assert!(matches!(Store::open(&path), Err(StoreError::Missing(_))));
+    assert!(!path.exists(), "opening must not create");
+
+    std::fs::write(
+        &path,
+        b"this is not a database, just some bytes that must survive......",
+    )
+    .unwrap();
+    let before = std::fs::read(&path).unwrap();
+    for r in [Store::open(&path), Store::open_or_create(&path)] {
+        let e = r.err().expect("refused");
+        assert!(matches!(e, StoreError::Corrupt { .. }), "{e}");
+        assert!(e.to_string().contains("left untouched"));
+    }
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+
+    // A real SQLite file of another application.
+    let other = tmp("other");
+    let c = rusqlite::Connection::open(&other).unwrap();
+    c.execute_batch("CREATE TABLE t (x); INSERT INTO t VALUES (1);")
+        .unwrap();
+    drop(c);
+    let e = Store::open_or_create(&other).err().expect("refused");
+    assert!(matches!(e, StoreError::NotOurs { .. }), "{e}");
+}
+
+#[test]
+fn a_job_goes_pending_running_done_exactly_once() {
+    let path = tmp("life");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let reg = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
+    assert!(reg.created);
+    let jobs = store.pending_jobs(reg.sweep_id, "v1").unwrap();
+    assert_eq!(jobs.len(), 3);
+    assert_eq!(jobs[0].seed, 1000);
+    let preps = store.preps_of(reg.sweep_id, "v1").unwrap();
+    assert_eq!(
+        preps[0].seed,
+        u64::MAX - 3,
+        "u64 seeds survive SQLite's i64"
+    );
+
+    let id = jobs[0].id;
+    // Not running yet: cannot be committed.
+    assert!(matches!(
+        store.commit_result(id, "v1", &record("train")),
+        Err(StoreError::BadTransition { .. })
+    ));
+    store.claim_job(id).unwrap();
+    assert!(
+        store.claim_job(id).is_err(),
+        "a running job cannot be claimed again"
+    );
+    store.commit_result(id, "v1", &record("train")).unwrap();
+    assert!(
+        store.commit_result(id, "v1", &record("walk_past")).is_err(),
+        "never twice"
+    );
+    assert_eq!(store.pending_jobs(reg.sweep_id, "v1").unwrap().len(), 2);
+
+    // Failures: retried until the limit, then failed with the error.
+    let id2 = jobs[1].id;
+    store.claim_job(id2).unwrap();
+    assert_eq!(
+        store.fail_job(id2, "crash 1", 2).unwrap(),
+        JobState::Pending
+    );
+    store.claim_job(id2).unwrap();
+    assert_eq!(store.fail_job(id2, "crash 2", 2).unwrap(), JobState::Failed);
+
+    // A killed coordinator leaves a job running; recovery makes it pending again.
+    let id3 = jobs[2].id;
+    store.claim_job(id3).unwrap();
+    drop(store);
+    let mut store = Store::open(&path).unwrap();
+    assert_eq!(store.recover_running(reg.sweep_id, "v1").unwrap(), 1);
+    let st = &store.status().unwrap()[0];
+    assert_eq!(
+        (
+            st.jobs.done,
+            st.jobs.pending,
+            st.jobs.failed,
+            st.jobs.running
+        ),
+        (1, 1, 1, 0)
+    );
+    assert_eq!(st.outcomes.train, 1);
+}
+
+#[test]
+fn sweeps_and_solver_versions_stay_apart() {
+    let path = tmp("versions");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let a = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
+    // Same definition again: found, nothing duplicated.
+    let again = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
+    assert_eq!((again.sweep_id, again.created), (a.sweep_id, false));
+    assert_eq!(store.pending_jobs(a.sweep_id, "v1").unwrap().len(), 3);
+    let j = store.pending_jobs(a.sweep_id, "v1").unwrap()[0].id;
+    store.claim_job(j).unwrap();
+    store.commit_result(j, "v1", &record("train")).unwrap();
+
+    // A new solver version gets its own jobs and preps; the old results are reported, not mixed.
+    let v2 = store.register(&sweep("{\"a\":1}", "v2"), false).unwrap();
+    assert_eq!(v2.other_versions, vec![("v1".to_string(), 1)]);
+    assert_eq!(store.pending_jobs(a.sweep_id, "v2").unwrap().len(), 3);
+    let counts = store.point_counts(a.sweep_id, "v2").unwrap();
+    assert_eq!(counts[0].outcomes.train, 0);
+    assert_eq!(
+        store.point_counts(a.sweep_id, "v1").unwrap()[0]
+            .outcomes
+            .train,
+        1
+    );
+
+    // A different definition under the same name: refused, unless replacing (old results kept).
+    let e = store
+        .register(&sweep("{\"a\":2}", "v1"), false)
+        .unwrap_err();
+    assert!(matches!(e, StoreError::SweepConflict { .. }), "{e}");
+    let r = store.register(&sweep("{\"a\":2}", "v1"), true).unwrap();
+    assert!(r.created);
+    let archived = r.archived_as.unwrap();
+    let old = store.sweep_id(&archived).unwrap();
+    assert_eq!(store.point_counts(old, "v1").unwrap()[0].outcomes.train, 1);
+}

@@ -1,0 +1,436 @@
+//! Sweeps through real worker processes: end to end, killed and resumed, crashed and hung
+//! workers, interrupted runs, and bad databases.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn exe() -> &'static str {
+    env!("CARGO_BIN_EXE_cellsweep")
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cellsweep-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A sweep of the real model on small lattices: 2 alphas x 2 sigmas x `replicates`.
+fn write_sweep(dir: &Path, name: &str, replicates: u32, collide_time: f64) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            r#"name = "{name}"
+seed = 5
+replicates = {replicates}
+[grid]
+alpha = [0.1, 0.12]
+beta = [10]
+L = [48]
+sigma = [5, 0]
+[params]
+R0 = 24
+[protocol]
+single_lattice = [96, 96]
+relax_time = 5
+free_time = 10
+collide_time = {collide_time}
+"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn cellsweep(args: &[&str], envs: &[(&str, String)]) -> Output {
+    let mut c = Command::new(exe());
+    c.args(args);
+    for (k, v) in envs {
+        c.env(k, v);
+    }
+    c.output().unwrap()
+}
+
+fn db_query(db: &Path, sql: &str) -> i64 {
+    let c = rusqlite::Connection::open_with_flags(db, rusqlite::OpenFlags::SQLITE_OPEN_READ_ONLY)
+        .unwrap();
+    c.busy_timeout(Duration::from_secs(5)).unwrap();
+    c.query_row(sql, [], |r| r.get(0)).unwrap()
+}
+
+/// Every job done with exactly one result.
+fn assert_each_job_counted_once(db: &Path) {
+    let jobs = db_query(db, "SELECT COUNT(*) FROM jobs");
+    assert!(jobs > 0);
+    assert_eq!(
+        db_query(db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        jobs
+    );
+    assert_eq!(db_query(db, "SELECT COUNT(*) FROM results"), jobs);
+    assert_eq!(
+        db_query(db, "SELECT COUNT(DISTINCT job_id) FROM results"),
+        jobs
+    );
+    assert_eq!(
+        db_query(db, "SELECT COUNT(*) FROM results r JOIN jobs j ON j.id = r.job_id WHERE r.solver_version != j.solver_version"),
+        0
+    );
+}
+
+#[test]
+fn a_small_sweep_runs_end_to_end_through_worker_processes() {
+    let dir = workdir("e2e");
+    let sweep = write_sweep(&dir, "e2e", 3, 2.0);
+    let db = dir.join("r.sqlite");
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+        ],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("registered sweep \"e2e\": 4 points x 3 replicates = 12 jobs, 2 preps"),
+        "{text}"
+    );
+    assert!(text.contains("outcome counts"), "{text}");
+    assert_each_job_counted_once(&db);
+    // Two preps computed once each, shared by sigma = 5 and sigma = 0.
+    assert_eq!(
+        db_query(&db, "SELECT COUNT(*) FROM preps WHERE state = 'done'"),
+        2
+    );
+    assert_eq!(db_query(&db, "SELECT COUNT(DISTINCT prep_id) FROM jobs"), 2);
+    // Results record the solver version and every parameter, classifier included.
+    let rec: String = rusqlite::Connection::open(&db)
+        .unwrap()
+        .query_row("SELECT record FROM results LIMIT 1", [], |r| r.get(0))
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_str(&rec).unwrap();
+    assert!(v["solver_version"].is_string());
+    assert_eq!(v["config"]["params"]["R0"], 24.0);
+    assert!(v["config"]["classifier"]["sustain_window"].is_number());
+
+    // Running it again finds nothing to do and changes nothing.
+    let again = cellsweep(
+        &["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()],
+        &[],
+    );
+    assert!(again.status.success());
+    assert!(String::from_utf8_lossy(&again.stdout).contains("resuming sweep"));
+    assert_eq!(db_query(&db, "SELECT COUNT(*) FROM results"), 12);
+
+    // status, as text and JSON.
+    let st = cellsweep(&["status", "--db", db.to_str().unwrap(), "--json"], &[]);
+    assert!(st.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
+    assert_eq!(v[0]["sweep"], "e2e");
+    assert_eq!(v[0]["jobs"]["done"], 12);
+    assert_eq!(v[0]["preps_done"], 2);
+    let o = &v[0]["outcomes"];
+    let sum: i64 = [
+        "train",
+        "walk_past",
+        "reversal",
+        "undetermined",
+        "unstable",
+        "breakup",
+    ]
+    .iter()
+    .map(|k| o[k].as_i64().unwrap())
+    .sum();
+    assert_eq!(sum, 12);
+
+    // A different sweep under the same name is refused, and the store is unchanged.
+    std::fs::write(
+        &sweep,
+        std::fs::read_to_string(&sweep)
+            .unwrap()
+            .replace("seed = 5", "seed = 6"),
+    )
+    .unwrap();
+    let clash = cellsweep(
+        &["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()],
+        &[],
+    );
+    assert!(!clash.status.success());
+    let err = String::from_utf8_lossy(&clash.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("--replace"), "{err}");
+    assert_eq!(db_query(&db, "SELECT COUNT(*) FROM sweeps"), 1);
+}
+
+fn wait_for(db: &Path, sql: &str, at_least: i64, limit: Duration) {
+    let start = Instant::now();
+    while start.elapsed() < limit {
+        if db.exists() {
+            let ok =
+                std::panic::catch_unwind(|| db_query(db, sql)).map_or(false, |n| n >= at_least);
+            if ok {
+                return;
+            }
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    panic!("timed out waiting for {sql} >= {at_least}");
+}
+
+fn spawn_run(sweep: &Path, db: &Path) -> Child {
+    Command::new(exe())
+        .args([
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap()
+}
+
+#[test]
+fn a_coordinator_killed_mid_run_resumes_with_every_job_counted_once() {
+    let dir = workdir("kill");
+    let sweep = write_sweep(&dir, "kill", 3, 20.0);
+    let db = dir.join("r.sqlite");
+    let mut child = spawn_run(&sweep, &db);
+    wait_for(
+        &db,
+        "SELECT COUNT(*) FROM results",
+        2,
+        Duration::from_secs(120),
+    );
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let done = db_query(&db, "SELECT COUNT(*) FROM results");
+    assert!(done < 12, "killed too late to test anything ({done} done)");
+    assert!(
+        db_query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'") > 0,
+        "jobs were in flight"
+    );
+
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+        ],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("recovered"), "{text}");
+    assert_each_job_counted_once(&db);
+}
+
+#[test]
+fn an_interrupted_run_leaves_a_consistent_store_and_resumes() {
+    let dir = workdir("int");
+    let sweep = write_sweep(&dir, "int", 3, 20.0);
+    let db = dir.join("r.sqlite");
+    let mut child = spawn_run(&sweep, &db);
+    wait_for(
+        &db,
+        "SELECT COUNT(*) FROM results",
+        1,
+        Duration::from_secs(120),
+    );
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let code = child.wait().unwrap();
+    assert_eq!(code.code(), Some(130), "interrupted runs exit with 130");
+    assert_eq!(
+        db_query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'"),
+        0
+    );
+    assert_eq!(
+        db_query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        db_query(&db, "SELECT COUNT(*) FROM results")
+    );
+    let out = cellsweep(
+        &["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()],
+        &[],
+    );
+    assert!(out.status.success());
+    assert_each_job_counted_once(&db);
+}
+
+#[test]
+fn a_crashed_worker_is_retried_and_a_persistent_crash_is_recorded() {
+    let dir = workdir("crash");
+    let sweep = write_sweep(&dir, "crash", 2, 2.0);
+    let db = dir.join("r.sqlite");
+    // Job 3 crashes its worker on the first attempt only: retried, then done.
+    let envs = [("CELLSWEEP_TEST_CRASH_TASK", "3".to_string())];
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+        ],
+        &envs,
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("crashed (signal 6)"),
+        "the crash is reported: {text}"
+    );
+    assert_each_job_counted_once(&db);
+    assert_eq!(db_query(&db, "SELECT attempts FROM jobs WHERE id = 3"), 1);
+
+    // Job 2 of a second store crashes every time: failed after 2 attempts, with its error.
+    let db2 = dir.join("r2.sqlite");
+    let envs = [
+        ("CELLSWEEP_TEST_CRASH_TASK", "2".to_string()),
+        ("CELLSWEEP_TEST_CRASH_ATTEMPTS", "99".to_string()),
+    ];
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db2.to_str().unwrap(),
+            "--workers",
+            "1",
+            "--max-attempts",
+            "2",
+        ],
+        &envs,
+    );
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("1 jobs failed"));
+    assert_eq!(
+        db_query(&db2, "SELECT COUNT(*) FROM jobs WHERE state = 'failed'"),
+        1
+    );
+    assert_eq!(db_query(&db2, "SELECT attempts FROM jobs WHERE id = 2"), 2);
+    let err: String = rusqlite::Connection::open(&db2)
+        .unwrap()
+        .query_row("SELECT error FROM jobs WHERE id = 2", [], |r| r.get(0))
+        .unwrap();
+    assert!(
+        err.contains("crashed") && err.contains("test hook"),
+        "{err}"
+    );
+    assert_eq!(
+        db_query(&db2, "SELECT COUNT(*) FROM results WHERE job_id = 2"),
+        0
+    );
+    assert_eq!(db_query(&db2, "SELECT COUNT(*) FROM results"), 7);
+}
+
+#[test]
+fn a_hung_worker_is_killed_at_the_timeout_and_its_job_retried() {
+    let dir = workdir("hang");
+    let sweep = write_sweep(&dir, "hang", 1, 2.0);
+    let db = dir.join("r.sqlite");
+    let envs = [("CELLSWEEP_TEST_HANG_TASK", "2".to_string())];
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+            "--job-timeout",
+            "3",
+        ],
+        &envs,
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("timed out after 3 s"), "{text}");
+    assert_each_job_counted_once(&db);
+    assert_eq!(db_query(&db, "SELECT attempts FROM jobs WHERE id = 2"), 1);
+}
+
+#[test]
+fn missing_and_corrupt_databases_get_a_clear_error_and_are_never_overwritten() {
+    let dir = workdir("db");
+    let missing = dir.join("missing.sqlite");
+    let out = cellsweep(&["status", "--db", missing.to_str().unwrap()], &[]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no database at") && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    assert!(!missing.exists());
+
+    let corrupt = dir.join("corrupt.sqlite");
+    let bytes: Vec<u8> = (0..4096u32).map(|i| (i * 7 + 3) as u8).collect();
+    std::fs::write(&corrupt, &bytes).unwrap();
+    let sweep = write_sweep(&dir, "db", 1, 2.0);
+    for args in [
+        vec!["status", "--db", corrupt.to_str().unwrap()],
+        vec![
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            corrupt.to_str().unwrap(),
+        ],
+    ] {
+        let out = cellsweep(&args, &[]);
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(
+            err.contains("corrupt") && err.contains("left untouched"),
+            "{err}"
+        );
+        assert_eq!(
+            std::fs::read(&corrupt).unwrap(),
+            bytes,
+            "the file must not change"
+        );
+    }
+}
+
+#[test]
+fn a_malformed_sweep_file_is_one_line_naming_file_and_key() {
+    let dir = workdir("bad");
+    let sweep = write_sweep(&dir, "bad", 1, 2.0);
+    std::fs::write(
+        &sweep,
+        std::fs::read_to_string(&sweep)
+            .unwrap()
+            .replace("L = [48]", "L = [47]"),
+    )
+    .unwrap();
+    let db = dir.join("r.sqlite");
+    let out = cellsweep(
+        &["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()],
+        &[],
+    );
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("bad.toml: grid.L: 47 is odd"), "{err}");
+    assert!(!db.exists(), "nothing is created for a bad sweep");
+}

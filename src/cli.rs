@@ -21,6 +21,13 @@ pub enum Command {
     Run(RunArgs),
     /// Progress of every sweep in the store: jobs by state, outcome counts, throughput, ETA.
     Status(StatusArgs),
+    /// Phase-diagram tables: outcome counts, fractions with 95% Wilson intervals, and labels.
+    Table(TableArgs),
+    /// Fit the beta_crit line beta* = a alpha~/L~ + b to the walk-past/training crossings.
+    Fit(FitArgs),
+    /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
+    /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
+    Plot(PlotArgs),
     /// Serve jobs on stdin/stdout (JSON lines); started by `run`, not by hand.
     #[command(hide = true)]
     Worker,
@@ -54,6 +61,9 @@ pub struct RunArgs {
     /// Failed attempts before a job is marked failed (default: the sweep file's, else 3).
     #[arg(long)]
     pub max_attempts: Option<u32>,
+    /// When the sweep is done, write its pictures into this folder (as `cellsweep plot`).
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -132,10 +142,82 @@ pub struct SimulateArgs {
     /// Compute the two cells on one thread only (default: two threads during the collision).
     #[arg(long)]
     pub serial: bool,
+    /// Write PNG snapshots of the collision (phi with its 0.5 contour, fibers, polarity) into
+    /// this folder, and an animated GIF of them.
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<std::path::PathBuf>,
+    /// Time between snapshots, tau0.
+    #[arg(long, default_value_t = 10.0)]
+    pub frame_every: f64,
     /// Write the collision's observables (one JSON object per sample) to this file.
     #[arg(long, value_name = "FILE")]
     pub track: Option<std::path::PathBuf>,
     /// Print the result as one JSON object.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Where outcome counts come from: a store, or a counts file.
+#[derive(Debug, Args)]
+pub struct CountsSource {
+    /// SQLite database of results.
+    #[arg(
+        long,
+        default_value = "cellsweep.sqlite",
+        value_name = "PATH",
+        conflicts_with = "counts"
+    )]
+    pub db: std::path::PathBuf,
+    /// The sweep to read (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// Read counts from a CSV file instead of a store: columns alpha, beta, L, sigma, n_train,
+    /// n_walk, n_reversal, n_undetermined, and optionally label (unstable / breakup).
+    #[arg(long, value_name = "FILE.csv")]
+    pub counts: Option<std::path::PathBuf>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    Text,
+    Csv,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct TableArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// Only this fiber spacing.
+    #[arg(long = "L")]
+    pub spacing: Option<u32>,
+    /// Only this adhesion.
+    #[arg(long)]
+    pub sigma: Option<f64>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+}
+
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// text or json.
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+    /// Bootstrap resamples for the 95% intervals.
+    #[arg(long, default_value_t = 1000)]
+    pub bootstrap: usize,
+    /// Seed of the bootstrap.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// Folder for the pictures (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: std::path::PathBuf,
 }

@@ -2,6 +2,7 @@
 
 mod cli;
 mod commands;
+mod frames;
 mod progress;
 
 use clap::Parser;

@@ -1,10 +1,14 @@
 //! One module per subcommand. Each returns the process's exit code.
 
+mod counts;
+mod fit;
 mod model;
+mod plot;
 mod relax;
 mod run;
 mod simulate;
 mod status;
+mod table;
 
 use crate::cli::{Cli, Command};
 
@@ -14,6 +18,9 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Simulate(args) => simulate::run(args).map(|_| 0),
         Command::Run(args) => run::run(args),
         Command::Status(args) => status::run(args).map(|_| 0),
+        Command::Table(args) => table::run(args).map(|_| 0),
+        Command::Fit(args) => fit::run(args),
+        Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Worker => {
             let stdin = std::io::stdin();
             let stdout = std::io::stdout();

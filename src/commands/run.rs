@@ -74,6 +74,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     let report = report?;
 
     super::status::print_point_counts(&store, reg.sweep_id, &sweep.name)?;
+    let loaded = super::counts::from_store(&args.db.db, Some(&sweep.name))?;
+    println!();
+    for (l, sigma) in super::table::diagrams(&loaded.counts) {
+        println!("{}", super::table::grid_text(&loaded.counts, l, sigma));
+    }
+    println!("{}", super::table::LEGEND);
+    if let Some(dir) = &args.plot {
+        for f in super::plot::write_plots(&loaded, dir)? {
+            println!("wrote {}", f.display());
+        }
+    }
     let p = &report.progress;
     if p.failed > 0 {
         println!("{} jobs failed after retries; `cellsweep status` shows them, the store keeps their errors", p.failed);

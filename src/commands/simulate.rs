@@ -8,6 +8,7 @@ use cellsweep_solver::{run_trajectory, Config, Protocol, Seeds};
 
 use super::model;
 use crate::cli::SimulateArgs;
+use crate::frames::FrameRecorder;
 use crate::progress::StageBars;
 
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
@@ -35,10 +36,26 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         classifier: model::classifier(&args.classifier)?,
     };
     let seeds = Seeds::from_run_seed(args.seed);
-    let mut bars = StageBars::new();
     let started = Instant::now();
-    let (result, prep, collision) = run_trajectory(&config, seeds, &mut bars, !args.serial)?;
-    bars.finish();
+    let (result, prep, collision) = match &args.frames {
+        Some(dir) => {
+            let mut rec = FrameRecorder::new(dir, args.frame_every)?;
+            let out = run_trajectory(&config, seeds, &mut rec, !args.serial)?;
+            rec.finish()?;
+            println!(
+                "wrote {} snapshots and an animation into {}",
+                rec.written.len(),
+                dir.display()
+            );
+            out
+        }
+        None => {
+            let mut bars = StageBars::new();
+            let out = run_trajectory(&config, seeds, &mut bars, !args.serial)?;
+            bars.finish();
+            out
+        }
+    };
     let wall = started.elapsed().as_secs_f64();
 
     if let (Some(path), Some(c)) = (&args.track, &collision) {

@@ -128,6 +128,9 @@ pub fn collide(
     let mut track = vec![first];
 
     monitor.stage(Stage::Collide, steps.collide);
+    if monitor.wants_fields(0.0) {
+        monitor.fields(0.0, &lat, &fibers, [&a, &b]);
+    }
     let mut done = 0;
     for s in 0..steps.collide {
         if decision.is_some() && protocol.stop_early {
@@ -157,6 +160,9 @@ pub fn collide(
             }
             track.push(smp);
             monitor.advance(n);
+            if monitor.wants_fields(t) {
+                monitor.fields(t, &lat, &fibers, [&a, &b]);
+            }
         }
     }
     if decision.is_none() {

@@ -11,6 +11,20 @@ pub enum Stage {
 
 /// Receives progress from a running trajectory. Every method has a no-op default.
 pub trait Monitor {
+    /// Whether [`Monitor::fields`] wants the collision's fields at time `t` (asked at every
+    /// record interval).
+    fn wants_fields(&self, _t: f64) -> bool {
+        false
+    }
+    /// The collision's two cells at time `t` (only when [`Monitor::wants_fields`] said yes).
+    fn fields(
+        &mut self,
+        _t: f64,
+        _lattice: &crate::Lattice,
+        _fibers: &crate::Fibers,
+        _cells: [&crate::Cell; 2],
+    ) {
+    }
     /// A stage of at most `total_steps` steps begins.
     fn stage(&mut self, _stage: Stage, _total_steps: u64) {}
     /// `steps_done` steps of the current stage are done.

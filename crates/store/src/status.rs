@@ -228,3 +228,14 @@ impl Store {
         Ok(out)
     }
 }
+
+impl Store {
+    /// The stored solver configuration (JSON) of a point.
+    pub fn point_params(&self, point_id: i64) -> Result<String> {
+        Ok(self
+            .conn
+            .query_row("SELECT params FROM points WHERE id = ?1", [point_id], |r| {
+                r.get(0)
+            })?)
+    }
+}

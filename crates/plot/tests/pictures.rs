@@ -1,0 +1,110 @@
+//! The pictures are valid SVG, PNG and GIF files with the expected elements.
+
+use cellsweep_plot::frames::{render, Snapshot};
+use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Mark, Point};
+use cellsweep_plot::{gif, Color};
+
+fn diagram() -> Diagram {
+    let mut points = Vec::new();
+    for (k, mark) in Mark::ALL.into_iter().enumerate() {
+        points.push(Point {
+            alpha: 0.1 + 0.02 * (k % 4) as f64,
+            beta: 10.0 + 4.0 * (k / 4) as f64,
+            mark: Some(mark),
+            freq: [0.2, 0.7, 0.1],
+        });
+    }
+    Diagram {
+        title: "test".into(),
+        points,
+        lines: vec![BetaLine {
+            label: "paper".into(),
+            color: Color::BLACK,
+            slope: 100.0,
+            intercept: 0.0,
+        }],
+    }
+}
+
+#[test]
+fn phase_diagrams_are_valid_svg_with_symbols_heat_maps_and_dashed_lines() {
+    let fig = diagram_figure(&diagram());
+    let svg = fig.to_svg();
+    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    assert!(svg.trim_end().ends_with("</svg>"));
+    // Every element is closed (a crude well-formedness check: one tag per line).
+    for line in svg.lines().skip(1) {
+        assert!(
+            line.ends_with("/>") || line.ends_with("</text>") || line == "</svg>",
+            "{line}"
+        );
+    }
+    assert!(svg.contains("<polygon"), "stars and diamonds are polygons");
+    assert!(
+        svg.contains("stroke-dasharray"),
+        "beta_crit lines are dashed"
+    );
+    for name in [
+        "walk-past",
+        "training",
+        "reversal",
+        "coexistence",
+        "unstable",
+        "breakup",
+    ] {
+        assert!(svg.contains(name), "legend names {name}");
+    }
+    for title in [
+        "(a) outcome",
+        "(b) training",
+        "(c) walk-past",
+        "(d) reversal",
+    ] {
+        assert!(svg.contains(title));
+    }
+    // 8 points x 3 heat maps at least.
+    assert!(svg.matches("<rect").count() >= 24);
+}
+
+#[test]
+fn phase_diagrams_rasterize_to_valid_png() {
+    let fig = diagram_figure(&diagram());
+    let png = fig.rasterize().to_png();
+    let decoder = png::Decoder::new(std::io::Cursor::new(&png));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    assert_eq!((info.width, info.height), (fig.width, fig.height));
+    // Not blank: some pixels are coloured.
+    let r = fig.rasterize();
+    assert!(r.rgb.chunks(3).any(|p| p[0] != p[1] || p[1] != p[2]));
+}
+
+#[test]
+fn snapshots_render_and_animate() {
+    let (nx, ny) = (40, 20);
+    let blob = |cx: f64| -> Vec<f64> {
+        (0..nx * ny)
+            .map(|k| {
+                let (i, j) = ((k % nx) as f64, (k / nx) as f64);
+                let r = ((i - cx).powi(2) + (j - 10.0).powi(2)).sqrt();
+                0.5 + 0.5 * ((6.0 - r) / 2.0).tanh()
+            })
+            .collect()
+    };
+    let (a, b, p) = (blob(10.0), blob(30.0), vec![0.3; nx * ny]);
+    let rows = [9, 10];
+    let snap = Snapshot {
+        nx,
+        ny,
+        phi: [&a, &b],
+        p: [&p, &p],
+        fiber_rows: &rows,
+        caption: "t = 0".into(),
+    };
+    let r = render(&snap, 2);
+    assert_eq!(r.width, 80);
+    // The 0.5 contour is drawn in black.
+    assert!(r.rgb.chunks(3).any(|px| px == [0, 0, 0]));
+    let g = gif(&[render(&snap, 1), render(&snap, 1)], 20).unwrap();
+    assert_eq!(&g[..6], b"GIF89a");
+}

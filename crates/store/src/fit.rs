@@ -1,0 +1,256 @@
+//! The beta_crit line (SPEC section 6): per (L, sigma, alpha) column, beta* is where
+//! n_walk - n_train changes sign as beta rises (linear interpolation between grid points); then
+//! beta* = a alpha~ / L~ + b by least squares, with alpha~ = 2 pi R0 d alpha_eff / eps0,
+//! alpha_eff = alpha + 0.002683 (5 - sigma) (the adhesion shift) and L~ = L / R0. Uncertainties
+//! by bootstrap over replicates: each point's counts are redrawn from its observed frequencies.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+use crate::phase::Counts;
+
+/// The paper's fit: beta_crit = 0.6 alpha~ / L~ - 12.
+pub const PAPER_A: f64 = 0.6;
+pub const PAPER_B: f64 = -12.0;
+/// Line-tension shift per unit of missing adhesion (SPEC section 6): 0.0134 / 5.
+pub const SIGMA_SHIFT: f64 = 0.002683;
+
+/// Scales of the nondimensionalisation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Scales {
+    pub R0: f64,
+    pub d: f64,
+}
+
+impl Default for Scales {
+    fn default() -> Self {
+        Scales {
+            R0: 40.0,
+            d: 20f64.sqrt(),
+        }
+    }
+}
+
+impl Scales {
+    /// x = alpha~ / L~ of a column, with the adhesion shift.
+    pub fn x(&self, alpha: f64, spacing: u32, sigma: f64) -> f64 {
+        let alpha_eff = alpha + SIGMA_SHIFT * (5.0 - sigma);
+        let alpha_t = 2.0 * PI * self.R0 * self.d * alpha_eff;
+        alpha_t / (spacing as f64 / self.R0)
+    }
+
+    /// The paper's (or any) line in the (alpha, beta) plane of one (L, sigma) diagram.
+    pub fn beta_on_line(&self, a: f64, b: f64, alpha: f64, spacing: u32, sigma: f64) -> f64 {
+        a * self.x(alpha, spacing, sigma) + b
+    }
+}
+
+/// One (L, sigma, alpha) column of the fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Column {
+    pub L: u32,
+    pub sigma: f64,
+    pub alpha: f64,
+    /// alpha~ / L~ with the sigma shift.
+    pub x: f64,
+    /// The crossing, if the column has one.
+    pub beta_star: Option<f64>,
+    /// Why the column is not used, if it is not.
+    pub skipped: Option<String>,
+}
+
+/// The fitted line.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Fit {
+    pub a: f64,
+    pub b: f64,
+    pub a_ci: [f64; 2],
+    pub b_ci: [f64; 2],
+    pub r2: f64,
+    pub paper_a: f64,
+    pub paper_b: f64,
+    pub bootstrap: usize,
+    pub columns: Vec<Column>,
+}
+
+/// Why a fit could not be made, with the columns examined.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NoFit {
+    pub reason: String,
+    pub columns: Vec<Column>,
+}
+
+/// beta* of one column (points sorted by beta): the first sign change of n_walk - n_train
+/// from training to walk-past, interpolated linearly.
+fn crossing(points: &[(f64, i64)]) -> Result<f64, String> {
+    if points.len() < 2 {
+        return Err(format!(
+            "{} usable point(s); a crossing needs two",
+            points.len()
+        ));
+    }
+    for w in points.windows(2) {
+        let ((b0, d0), (b1, d1)) = (w[0], w[1]);
+        // Training more frequent at b0, walk-past at least as frequent at b1 (exactly b1 if equal).
+        if d0 < 0 && d1 >= 0 {
+            return Ok(b0 + (b1 - b0) * (-d0) as f64 / (d1 - d0) as f64);
+        }
+    }
+    if points.iter().all(|&(_, d)| d <= 0) {
+        Err("training at least as frequent as walk-past at every beta".into())
+    } else if points.iter().all(|&(_, d)| d >= 0) {
+        Err("walk-past at least as frequent as training at every beta".into())
+    } else {
+        Err("n_walk - n_train never rises through zero".into())
+    }
+}
+
+/// The columns of `counts` with their crossings; `diff` gives n_walk - n_train of a point.
+fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> Vec<Column> {
+    let mut keys: Vec<(u32, f64, f64)> = Vec::new();
+    for c in counts {
+        if !keys
+            .iter()
+            .any(|&(l, s, a)| l == c.L && s == c.sigma && a == c.alpha)
+        {
+            keys.push((c.L, c.sigma, c.alpha));
+        }
+    }
+    keys.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+    keys.into_iter()
+        .map(|(l, sigma, alpha)| {
+            let mut pts: Vec<(f64, i64)> = counts
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.L == l && c.sigma == sigma && c.alpha == alpha && c.collided())
+                .map(|(i, c)| (c.beta, diff(i)))
+                .collect();
+            pts.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
+            let (beta_star, skipped) = match crossing(&pts) {
+                Ok(b) => (Some(b), None),
+                Err(why) => (None, Some(why)),
+            };
+            Column {
+                L: l,
+                sigma,
+                alpha,
+                x: scales.x(alpha, l, sigma),
+                beta_star,
+                skipped,
+            }
+        })
+        .collect()
+}
+
+/// Least squares y = a x + b; (a, b, R^2). Needs two distinct x.
+fn least_squares(xy: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
+    let n = xy.len() as f64;
+    if xy.len() < 2 {
+        return None;
+    }
+    let mx = xy.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = xy.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx <= 1e-12 * mx.abs().max(1.0) {
+        return None;
+    }
+    let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let a = sxy / sxx;
+    let b = my - a * mx;
+    let ss_tot: f64 = xy.iter().map(|p| (p.1 - my).powi(2)).sum();
+    let ss_res: f64 = xy.iter().map(|p| (p.1 - (a * p.0 + b)).powi(2)).sum();
+    let r2 = if ss_tot > 0.0 {
+        1.0 - ss_res / ss_tot
+    } else {
+        1.0
+    };
+    Some((a, b, r2))
+}
+
+fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
+    cols.iter()
+        .filter_map(|c| c.beta_star.map(|b| (c.x, b)))
+        .collect()
+}
+
+/// Fit beta* = a alpha~ / L~ + b to `counts`, with `resamples` bootstrap resamples (seeded).
+pub fn fit_line(
+    counts: &[Counts],
+    scales: &Scales,
+    resamples: usize,
+    seed: u64,
+) -> Result<Fit, NoFit> {
+    let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
+    let cols = columns(counts, scales, &observed);
+    let xy = points_of(&cols);
+    let distinct: Vec<f64> = xy.iter().fold(Vec::new(), |mut v, p| {
+        if !v.contains(&p.0) {
+            v.push(p.0)
+        }
+        v
+    });
+    let Some((a, b, r2)) = least_squares(&xy).filter(|_| distinct.len() >= 2) else {
+        return Err(NoFit {
+            reason: format!(
+                "{} of {} columns have a walk-past/training crossing, at {} distinct alpha~/L~; a line needs two",
+                xy.len(),
+                cols.len(),
+                distinct.len()
+            ),
+            columns: cols,
+        });
+    };
+    // Bootstrap: redraw every point's replicates from its observed outcome frequencies.
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut as_, mut bs) = (Vec::new(), Vec::new());
+    for _ in 0..resamples {
+        let diffs: Vec<i64> = counts
+            .iter()
+            .map(|c| {
+                let n = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+                if n == 0 {
+                    return 0;
+                }
+                let (pt, pw) = (c.n_train as f64 / n as f64, c.n_walk as f64 / n as f64);
+                let mut d = 0i64;
+                for _ in 0..n {
+                    let u: f64 = rng.random();
+                    if u < pt {
+                        d -= 1;
+                    } else if u < pt + pw {
+                        d += 1;
+                    }
+                }
+                d
+            })
+            .collect();
+        let cols_b = columns(counts, scales, &|i| diffs[i]);
+        if let Some((ab, bb, _)) = least_squares(&points_of(&cols_b)) {
+            as_.push(ab);
+            bs.push(bb);
+        }
+    }
+    let ci = |v: &mut Vec<f64>| -> [f64; 2] {
+        if v.is_empty() {
+            return [f64::NAN, f64::NAN];
+        }
+        v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+        let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
+        [q(0.025), q(0.975)]
+    };
+    Ok(Fit {
+        a,
+        b,
+        a_ci: ci(&mut as_),
+        b_ci: ci(&mut bs),
+        r2,
+        paper_a: PAPER_A,
+        paper_b: PAPER_B,
+        bootstrap: resamples,
+        columns: cols,
+    })
+}

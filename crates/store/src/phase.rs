@@ -1,0 +1,170 @@
+//! From outcome counts to phase-diagram labels (SPEC section 6), with Wilson intervals.
+
+use serde::{Deserialize, Serialize};
+
+/// The label of a grid point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Label {
+    Train,
+    WalkPast,
+    Reversal,
+    Undetermined,
+    /// Neither walk-past nor training dominant, and they differ by less than 10% of replicates.
+    Coexist,
+    /// The prepped cell let go of a fiber on its own.
+    Unstable,
+    /// The prepped cell's phase field broke up.
+    Breakup,
+    /// Nothing dominant, no coexistence.
+    Mixed,
+}
+
+impl Label {
+    pub const ALL: [Label; 8] = [
+        Label::WalkPast,
+        Label::Train,
+        Label::Reversal,
+        Label::Coexist,
+        Label::Unstable,
+        Label::Breakup,
+        Label::Undetermined,
+        Label::Mixed,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Label::Train => "train",
+            Label::WalkPast => "walk_past",
+            Label::Reversal => "reversal",
+            Label::Undetermined => "undetermined",
+            Label::Coexist => "coexist",
+            Label::Unstable => "unstable",
+            Label::Breakup => "breakup",
+            Label::Mixed => "mixed",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Label> {
+        Label::ALL.into_iter().find(|l| l.as_str() == s)
+    }
+
+    /// The paper's symbol, in ASCII: star walk-past, cross training, plus reversal, dot
+    /// unstable, diamond breakup, star over cross for coexistence.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Label::WalkPast => "*",
+            Label::Train => "x",
+            Label::Reversal => "+",
+            Label::Coexist => "*x",
+            Label::Unstable => ".",
+            Label::Breakup => "<>",
+            Label::Undetermined => "?",
+            Label::Mixed => "~",
+        }
+    }
+}
+
+/// Outcome counts of one grid point, from a store or a counts file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Counts {
+    pub alpha: f64,
+    pub beta: f64,
+    pub L: u32,
+    pub sigma: f64,
+    pub n_train: u64,
+    pub n_walk: u64,
+    pub n_reversal: u64,
+    pub n_undetermined: u64,
+    /// Replicates decided by an `unstable` prep (no collision).
+    pub n_unstable: u64,
+    /// Replicates decided by a `breakup` prep (no collision).
+    pub n_breakup: u64,
+    /// A prep verdict given for the whole point (counts files), overriding the counts.
+    pub verdict: Option<Label>,
+    /// Mean free speed of the point's prepped cells, where known.
+    pub free_speed: Option<f64>,
+}
+
+impl Counts {
+    /// All replicates with a result.
+    pub fn total(&self) -> u64 {
+        self.n_train
+            + self.n_walk
+            + self.n_reversal
+            + self.n_undetermined
+            + self.n_unstable
+            + self.n_breakup
+    }
+
+    /// The label by SPEC section 6: a prep verdict carries the point; an outcome in at least
+    /// 55% of the replicates dominates (53 of 96); otherwise walk-past and training coexist when
+    /// they differ by less than 10% of the replicates (at most 9 of 96); otherwise mixed.
+    pub fn label(&self) -> Option<Label> {
+        if let Some(v) = self.verdict {
+            return Some(v);
+        }
+        let n = self.total();
+        if n == 0 {
+            return None;
+        }
+        let dominant = |k: u64| k * 100 >= 55 * n;
+        for (k, label) in [
+            (self.n_unstable, Label::Unstable),
+            (self.n_breakup, Label::Breakup),
+            (self.n_train, Label::Train),
+            (self.n_walk, Label::WalkPast),
+            (self.n_reversal, Label::Reversal),
+            (self.n_undetermined, Label::Undetermined),
+        ] {
+            if dominant(k) {
+                return Some(label);
+            }
+        }
+        if self.n_walk.abs_diff(self.n_train) * 10 < n {
+            return Some(Label::Coexist);
+        }
+        Some(Label::Mixed)
+    }
+
+    /// Whether the point has collisions to use (no prep verdict).
+    pub fn collided(&self) -> bool {
+        !matches!(self.verdict, Some(Label::Unstable | Label::Breakup))
+            && self.n_unstable + self.n_breakup == 0
+            && self.total() > 0
+    }
+}
+
+/// A fraction with its 95% Wilson score interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Fraction {
+    pub value: f64,
+    pub low: f64,
+    pub high: f64,
+}
+
+/// z of a two-sided 95% interval.
+const Z95: f64 = 1.959_963_984_540_054;
+
+/// k successes of n, with the 95% Wilson interval; NaN for n = 0.
+pub fn wilson(k: u64, n: u64) -> Fraction {
+    if n == 0 {
+        return Fraction {
+            value: f64::NAN,
+            low: f64::NAN,
+            high: f64::NAN,
+        };
+    }
+    let (k, n) = (k as f64, n as f64);
+    let p = k / n;
+    let z2 = Z95 * Z95;
+    let denom = 1.0 + z2 / n;
+    let centre = (p + z2 / (2.0 * n)) / denom;
+    let half = Z95 / denom * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
+    Fraction {
+        value: p,
+        low: (centre - half).max(0.0),
+        high: (centre + half).min(1.0),
+    }
+}

@@ -1,0 +1,147 @@
+//! Labels at their edges, Wilson intervals, and the beta_crit fit on synthetic counts.
+
+use cellsweep_store::{fit_line, wilson, Counts, Label, Scales};
+
+fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
+    Counts {
+        alpha: 0.1,
+        beta: 10.0,
+        L: 90,
+        sigma: 5.0,
+        n_train,
+        n_walk,
+        n_reversal,
+        n_undetermined,
+        n_unstable: 0,
+        n_breakup: 0,
+        verdict: None,
+        free_speed: None,
+    }
+}
+
+#[test]
+fn dominance_starts_at_53_of_96() {
+    assert_eq!(counts(53, 43, 0, 0).label(), Some(Label::Train));
+    assert_eq!(counts(43, 53, 0, 0).label(), Some(Label::WalkPast));
+    assert_eq!(counts(0, 0, 53, 43).label(), Some(Label::Reversal));
+    assert_eq!(counts(20, 23, 0, 53).label(), Some(Label::Undetermined));
+    // 52 of 96 is not dominant; 52 vs 44 differ by 8 < 9.6: coexistence.
+    assert_eq!(counts(52, 44, 0, 0).label(), Some(Label::Coexist));
+}
+
+#[test]
+fn coexistence_needs_a_difference_below_ten_percent() {
+    // 96 replicates: a difference of 9 coexists, 10 does not.
+    assert_eq!(counts(44, 35, 17, 0).label(), Some(Label::Coexist));
+    assert_eq!(counts(45, 35, 16, 0).label(), Some(Label::Mixed));
+    assert_eq!(counts(35, 45, 16, 0).label(), Some(Label::Mixed));
+    assert_eq!(counts(0, 0, 0, 0).label(), None);
+}
+
+#[test]
+fn prep_verdicts_carry_the_point() {
+    let mut c = counts(0, 0, 0, 0);
+    c.n_unstable = 96;
+    assert_eq!(c.label(), Some(Label::Unstable));
+    assert!(!c.collided());
+    let mut c = counts(0, 0, 0, 0);
+    c.n_breakup = 96;
+    assert_eq!(c.label(), Some(Label::Breakup));
+    // A verdict given by a counts file wins over counts.
+    let mut c = counts(96, 0, 0, 0);
+    c.verdict = Some(Label::Unstable);
+    assert_eq!(c.label(), Some(Label::Unstable));
+}
+
+#[test]
+fn wilson_intervals_match_known_values() {
+    let f = wilson(5, 10);
+    assert!((f.value - 0.5).abs() < 1e-12);
+    assert!(
+        (f.low - 0.236_593).abs() < 1e-5 && (f.high - 0.763_407).abs() < 1e-5,
+        "{f:?}"
+    );
+    let z = wilson(0, 10);
+    assert_eq!(z.low, 0.0);
+    assert!((z.high - 0.277_533).abs() < 1e-5, "{z:?}");
+    let all = wilson(96, 96);
+    assert_eq!(all.high, 1.0);
+    assert!(wilson(0, 0).value.is_nan());
+}
+
+/// Counts drawn from a known line: walk-past probability rises through 1/2 at beta_crit.
+fn synthetic(a: f64, b: f64) -> Vec<Counts> {
+    let scales = Scales::default();
+    let mut out = Vec::new();
+    for l in [90u32, 70] {
+        for k in 0..6 {
+            let alpha = 0.10 + 0.02 * k as f64;
+            let crit = a * scales.x(alpha, l, 5.0) + b;
+            for j in 0..11 {
+                let beta = 10.0 + 4.0 * j as f64;
+                let p = 1.0 / (1.0 + (-(beta - crit) / 1.5).exp());
+                let n_walk = (96.0 * p).round() as u64;
+                out.push(Counts {
+                    alpha,
+                    beta,
+                    L: l,
+                    n_walk,
+                    n_train: 96 - n_walk,
+                    ..counts(0, 0, 0, 0)
+                });
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_fit_recovers_a_known_line_and_reports_unusable_columns() {
+    let data = synthetic(0.6, -12.0);
+    let fit = fit_line(&data, &Scales::default(), 200, 7).unwrap();
+    assert!((fit.a - 0.6).abs() < 0.02, "a = {}", fit.a);
+    assert!((fit.b + 12.0).abs() < 1.5, "b = {}", fit.b);
+    assert!(fit.r2 > 0.99);
+    assert!(
+        fit.a_ci[0] <= fit.a && fit.a <= fit.a_ci[1],
+        "{:?}",
+        fit.a_ci
+    );
+    assert!(
+        fit.b_ci[0] <= fit.b && fit.b <= fit.b_ci[1],
+        "{:?}",
+        fit.b_ci
+    );
+    // Stiff cells at narrow spacing cross above beta = 50: those columns are skipped, with why.
+    let skipped: Vec<_> = fit.columns.iter().filter(|c| c.skipped.is_some()).collect();
+    assert!(!skipped.is_empty());
+    assert!(
+        skipped.iter().all(|c| c.L == 70 && c.alpha >= 0.16),
+        "{skipped:?}"
+    );
+    assert!(skipped[0]
+        .skipped
+        .as_ref()
+        .unwrap()
+        .contains("training at least as frequent"));
+}
+
+#[test]
+fn a_fit_without_two_usable_columns_says_why() {
+    let data: Vec<Counts> = synthetic(0.6, -12.0)
+        .into_iter()
+        .filter(|c| c.L == 90 && c.alpha == 0.1)
+        .collect();
+    let no = fit_line(&data, &Scales::default(), 10, 1).unwrap_err();
+    assert!(no.reason.contains("a line needs two"), "{}", no.reason);
+    assert_eq!(no.columns.len(), 1);
+    assert!(no.columns[0].beta_star.is_some());
+}
+
+#[test]
+fn the_sigma_shift_moves_the_line_left() {
+    let s = Scales::default();
+    // At sigma = 0 the same x is reached 0.0134 lower in alpha.
+    assert!((s.x(0.1, 90, 0.0) - s.x(0.1 + 0.013415, 90, 5.0)).abs() < 1e-9);
+    assert!((s.x(0.1, 40, 5.0) - 1123.97 * 0.1).abs() < 0.01);
+}

@@ -1,0 +1,178 @@
+//! `cellsweep plot`: phase diagrams, frequency heat maps with beta_crit lines, free speeds.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
+use cellsweep_plot::{Color, Figure};
+use cellsweep_store::{fit::PAPER_A, fit::PAPER_B, fit_line, Counts, Label, Scales};
+
+use super::counts::{self, Loaded};
+use super::table::diagrams;
+use crate::cli::PlotArgs;
+
+fn mark(l: Label) -> Mark {
+    match l {
+        Label::Train => Mark::Train,
+        Label::WalkPast => Mark::WalkPast,
+        Label::Reversal => Mark::Reversal,
+        Label::Coexist => Mark::Coexist,
+        Label::Unstable => Mark::Unstable,
+        Label::Breakup => Mark::Breakup,
+        Label::Undetermined => Mark::Undetermined,
+        Label::Mixed => Mark::Mixed,
+    }
+}
+
+/// beta = a x(alpha) + b as a line in the (alpha, beta) plane of diagram (L, sigma).
+fn beta_line(
+    scales: &Scales,
+    a: f64,
+    b: f64,
+    spacing: u32,
+    sigma: f64,
+    label: String,
+    color: Color,
+) -> BetaLine {
+    let x0 = scales.x(0.0, spacing, sigma);
+    let x1 = scales.x(1.0, spacing, sigma);
+    BetaLine {
+        label,
+        color,
+        slope: a * (x1 - x0),
+        intercept: a * x0 + b,
+    }
+}
+
+fn write(fig: &Figure, dir: &Path, stem: &str, written: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+    let svg = dir.join(format!("{stem}.svg"));
+    std::fs::write(&svg, fig.to_svg())
+        .with_context(|| format!("cannot write {}", svg.display()))?;
+    let png = dir.join(format!("{stem}.png"));
+    std::fs::write(&png, fig.rasterize().to_png())
+        .with_context(|| format!("cannot write {}", png.display()))?;
+    written.extend([svg, png]);
+    Ok(())
+}
+
+/// Write every picture of `loaded` into `dir`; returns the files written.
+pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let fitted = fit_line(&loaded.counts, &loaded.scales, 0, 1).ok();
+    let mut written = Vec::new();
+    for (l, sigma) in diagrams(&loaded.counts) {
+        let pts: Vec<&Counts> = loaded
+            .counts
+            .iter()
+            .filter(|c| c.L == l && c.sigma == sigma)
+            .collect();
+        let points = pts
+            .iter()
+            .map(|c| {
+                let n = (c.n_train + c.n_walk + c.n_reversal + c.n_undetermined) as f64;
+                let f = |k: u64| {
+                    if c.collided() && n > 0.0 {
+                        k as f64 / n
+                    } else {
+                        f64::NAN
+                    }
+                };
+                Point {
+                    alpha: c.alpha,
+                    beta: c.beta,
+                    mark: c.label().map(mark),
+                    freq: [f(c.n_train), f(c.n_walk), f(c.n_reversal)],
+                }
+            })
+            .collect();
+        let mut lines = vec![beta_line(
+            &loaded.scales,
+            PAPER_A,
+            PAPER_B,
+            l,
+            sigma,
+            "paper beta_crit".into(),
+            Color::BLACK,
+        )];
+        if let Some(fit) = &fitted {
+            lines.push(beta_line(
+                &loaded.scales,
+                fit.a,
+                fit.b,
+                l,
+                sigma,
+                format!("fit a={:.2} b={:.1}", fit.a, fit.b),
+                Color::ORANGE,
+            ));
+        }
+        let d = Diagram {
+            title: format!("{}: L = {l}, sigma = {sigma}", loaded.name),
+            points,
+            lines,
+        };
+        write(
+            &diagram_figure(&d),
+            dir,
+            &format!("phase-L{l}-sigma{sigma}"),
+            &mut written,
+        )?;
+    }
+    // Free speed against beta, one curve per (L, alpha); sigma does not change the prep.
+    let palette = [
+        Color::BLUE,
+        Color::RED,
+        Color::GREEN,
+        Color::ORANGE,
+        Color::CYAN,
+        Color(120, 60, 160),
+        Color::GREY,
+        Color::BLACK,
+    ];
+    let mut keys: Vec<(u32, f64)> = Vec::new();
+    for c in &loaded.counts {
+        if c.free_speed.is_some() && !keys.contains(&(c.L, c.alpha)) {
+            keys.push((c.L, c.alpha));
+        }
+    }
+    let series: Vec<Series> = keys
+        .iter()
+        .enumerate()
+        .map(|(k, &(l, alpha))| {
+            let mut points: Vec<(f64, f64)> = Vec::new();
+            for c in loaded
+                .counts
+                .iter()
+                .filter(|c| c.L == l && c.alpha == alpha)
+            {
+                if let Some(v) = c.free_speed {
+                    if !points.iter().any(|p| p.0 == c.beta) {
+                        points.push((c.beta, v));
+                    }
+                }
+            }
+            Series {
+                label: format!("L={l} alpha={alpha}"),
+                color: palette[k % palette.len()],
+                points,
+            }
+        })
+        .collect();
+    write(
+        &speed_figure(
+            &format!("{}: free speed of the prepped cell", loaded.name),
+            &series,
+        ),
+        dir,
+        "free-speed",
+        &mut written,
+    )?;
+    Ok(written)
+}
+
+pub fn run(args: PlotArgs) -> anyhow::Result<()> {
+    let loaded = counts::load(&args.source)?;
+    for f in write_plots(&loaded, &args.out)? {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

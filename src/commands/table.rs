@@ -1,0 +1,198 @@
+//! `cellsweep table`: each (L, sigma) phase diagram as a grid, and every point's counts,
+//! fractions with 95% Wilson intervals, and label; as text, CSV or JSON.
+
+use std::fmt::Write as _;
+
+use cellsweep_store::{wilson, Counts, Label};
+use serde_json::json;
+
+use super::counts;
+use crate::cli::{Format, TableArgs};
+
+/// The (L, sigma) diagrams present in `counts`, in order.
+pub fn diagrams(counts: &[Counts]) -> Vec<(u32, f64)> {
+    let mut keys: Vec<(u32, f64)> = Vec::new();
+    for c in counts {
+        if !keys.contains(&(c.L, c.sigma)) {
+            keys.push((c.L, c.sigma));
+        }
+    }
+    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.partial_cmp(&a.1).expect("finite")));
+    keys
+}
+
+/// Sorted distinct values.
+pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    v.dedup();
+    v
+}
+
+const FRACTIONS: [&str; 4] = ["train", "walk_past", "reversal", "undetermined"];
+
+fn fractions(c: &Counts) -> [(u64, &'static str); 4] {
+    [
+        (c.n_train, "train"),
+        (c.n_walk, "walk_past"),
+        (c.n_reversal, "reversal"),
+        (c.n_undetermined, "undetermined"),
+    ]
+}
+
+/// The grid of one diagram: alpha across, beta down (largest beta on top, as in the paper).
+pub fn grid_text(counts: &[Counts], spacing: u32, sigma: f64) -> String {
+    let pts: Vec<&Counts> = counts
+        .iter()
+        .filter(|c| c.L == spacing && c.sigma == sigma)
+        .collect();
+    let alphas = axis(pts.iter().map(|c| c.alpha));
+    let betas = axis(pts.iter().map(|c| c.beta));
+    let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "L = {spacing}, sigma = {sigma} (up to {n} replicates per point)"
+    );
+    let _ = write!(s, "{:>10} |", "beta \\ alpha");
+    for a in &alphas {
+        let _ = write!(s, " {a:>5}");
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(s, "{}", "-".repeat(13 + 6 * alphas.len()));
+    for b in betas.iter().rev() {
+        let _ = write!(s, "{b:>12} |");
+        for a in &alphas {
+            let sym = pts
+                .iter()
+                .find(|c| c.alpha == *a && c.beta == *b)
+                .and_then(|c| c.label())
+                .map_or("", Label::symbol);
+            let _ = write!(s, " {sym:>5}");
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+pub const LEGEND: &str =
+    "legend: * walk_past  x train  + reversal  *x coexist (walk-past and training within 10%)  \
+                          . unstable  <> breakup  ? undetermined  ~ mixed";
+
+pub fn run(args: TableArgs) -> anyhow::Result<()> {
+    let loaded = counts::load(&args.source)?;
+    let counts: Vec<Counts> = loaded
+        .counts
+        .into_iter()
+        .filter(|c| {
+            args.spacing.is_none_or(|l| c.L == l) && args.sigma.is_none_or(|s| c.sigma == s)
+        })
+        .collect();
+    if counts.is_empty() {
+        anyhow::bail!("no points match in {}", loaded.name);
+    }
+    match args.format {
+        Format::Text => {
+            for (l, sigma) in diagrams(&counts) {
+                println!("{}", grid_text(&counts, l, sigma));
+            }
+            println!("{LEGEND}\n");
+            println!(
+                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  label",
+                "alpha",
+                "beta",
+                "L",
+                "sigma",
+                "n",
+                "train",
+                "walk_past",
+                "reversal",
+                "undetermined"
+            );
+            for c in &counts {
+                let n = c.total();
+                let cells: Vec<String> = fractions(c)
+                    .iter()
+                    .map(|&(k, _)| {
+                        let f = wilson(k, n);
+                        format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
+                    })
+                    .collect();
+                println!(
+                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  {}",
+                    c.alpha,
+                    c.beta,
+                    c.L,
+                    c.sigma,
+                    n,
+                    cells[0],
+                    cells[1],
+                    cells[2],
+                    cells[3],
+                    c.label().map_or("-", Label::as_str)
+                );
+            }
+        }
+        Format::Csv => {
+            let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n".to_string();
+            for f in FRACTIONS {
+                header += &format!(",f_{f},f_{f}_low,f_{f}_high");
+            }
+            println!("{header},free_speed,label");
+            for c in &counts {
+                let n = c.total();
+                let mut row = format!(
+                    "{},{},{},{},{},{},{},{},{},{},{}",
+                    c.alpha,
+                    c.beta,
+                    c.L,
+                    c.sigma,
+                    c.n_train,
+                    c.n_walk,
+                    c.n_reversal,
+                    c.n_undetermined,
+                    c.n_unstable,
+                    c.n_breakup,
+                    n
+                );
+                for (k, _) in fractions(c) {
+                    let f = wilson(k, n);
+                    row += &format!(",{:.6},{:.6},{:.6}", f.value, f.low, f.high);
+                }
+                let speed = c.free_speed.map_or(String::new(), |v| format!("{v:.6}"));
+                let label = match (c.verdict, c.label()) {
+                    (Some(v), _) => v.as_str(),
+                    (None, Some(l)) => l.as_str(),
+                    (None, None) => "",
+                };
+                println!("{row},{speed},{label}");
+            }
+        }
+        Format::Json => {
+            let rows: Vec<_> = counts
+                .iter()
+                .map(|c| {
+                    let n = c.total();
+                    let mut f = serde_json::Map::new();
+                    for (k, name) in fractions(c) {
+                        let w = wilson(k, n);
+                        f.insert(
+                            name.into(),
+                            json!({ "value": w.value, "low": w.low, "high": w.high }),
+                        );
+                    }
+                    json!({
+                        "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
+                        "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
+                        "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
+                        "n_breakup": c.n_breakup, "n": n, "fractions": f,
+                        "free_speed": c.free_speed,
+                        "label": c.label().map(Label::as_str),
+                    })
+                })
+                .collect();
+            println!("{}", serde_json::to_string_pretty(&rows)?);
+        }
+    }
+    Ok(())
+}

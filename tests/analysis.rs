@@ -1,0 +1,197 @@
+//! `table`, `fit` and `plot` as a user runs them, on a counts file drawn from a known line.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn cellsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("cellsweep-analysis-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A paper-like L = 90 diagram: walk-past above beta_crit = 0.6 alpha~/L~ - 12, an unstable
+/// corner at low alpha and high beta.
+fn write_counts(dir: &Path) -> PathBuf {
+    let path = dir.join("counts.csv");
+    let mut s = String::from("alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,label\n");
+    for k in 0..6 {
+        let alpha = [0.1, 0.12, 0.14, 0.16, 0.18, 0.2][k];
+        let x = 2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * alpha / (90.0 / 40.0);
+        let crit = 0.6 * x - 12.0;
+        for j in 0..11 {
+            let beta = 10 + 4 * j;
+            if alpha < 0.13 && beta >= 42 {
+                s += &format!("{alpha},{beta},90,5,0,0,0,0,unstable\n");
+                continue;
+            }
+            let p = 1.0 / (1.0 + (-(beta as f64 - crit) / 2.0).exp());
+            let walk = (94.0 * p).round() as u64;
+            s += &format!("{alpha},{beta},90,5,{},{walk},1,1,\n", 94 - walk);
+        }
+    }
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+#[test]
+fn table_prints_the_grid_and_round_trips_through_csv_and_json() {
+    let dir = workdir("table");
+    let counts = write_counts(&dir);
+    let c = counts.to_str().unwrap();
+    let text = cellsweep(&["table", "--counts", c]);
+    assert!(
+        text.status.success(),
+        "{}",
+        String::from_utf8_lossy(&text.stderr)
+    );
+    let t = String::from_utf8(text.stdout).unwrap();
+    assert!(t.contains("L = 90, sigma = 5"));
+    assert!(t.contains("legend:"));
+    for sym in ["*", "x", "."] {
+        assert!(t.contains(&format!(" {sym}")), "symbol {sym} in\n{t}");
+    }
+
+    let json = |args: &[&str]| -> serde_json::Value {
+        serde_json::from_slice(&cellsweep(args).stdout).unwrap()
+    };
+    let rows = json(&["table", "--counts", c, "--format", "json"]);
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 66);
+    for key in [
+        "alpha",
+        "beta",
+        "L",
+        "sigma",
+        "n_train",
+        "n_walk",
+        "n_reversal",
+        "n_undetermined",
+        "label",
+    ] {
+        assert!(rows.iter().all(|r| r.get(key).is_some()), "key {key}");
+    }
+    let unstable = rows.iter().filter(|r| r["label"] == "unstable").count();
+    assert_eq!(unstable, 6, "alpha 0.10 and 0.12 at beta 42, 46, 50");
+    let f = &rows[0]["fractions"]["train"];
+    assert!(f["low"].as_f64().unwrap() <= f["value"].as_f64().unwrap());
+
+    // CSV out, CSV back in: the same table.
+    let csv = cellsweep(&["table", "--counts", c, "--format", "csv"]);
+    let again = dir.join("again.csv");
+    std::fs::write(&again, &csv.stdout).unwrap();
+    let rows2 = json(&[
+        "table",
+        "--counts",
+        again.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(rows2.as_array().unwrap(), rows);
+
+    // Filters.
+    let none = cellsweep(&["table", "--counts", c, "--L", "70"]);
+    assert!(!none.status.success());
+    assert!(String::from_utf8_lossy(&none.stderr).contains("no points match"));
+}
+
+#[test]
+fn fit_recovers_the_line_and_explains_what_it_cannot_fit() {
+    let dir = workdir("fit");
+    let counts = write_counts(&dir);
+    let out = cellsweep(&[
+        "fit",
+        "--counts",
+        counts.to_str().unwrap(),
+        "--format",
+        "json",
+        "--bootstrap",
+        "200",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let (a, b) = (v["a"].as_f64().unwrap(), v["b"].as_f64().unwrap());
+    assert!((a - 0.6).abs() < 0.1, "a = {a}");
+    assert!((b + 12.0).abs() < 5.0, "b = {b}");
+    for key in ["a_ci", "b_ci", "columns", "r2", "paper_a", "paper_b"] {
+        assert!(v.get(key).is_some(), "{key}");
+    }
+    assert_eq!(v["columns"].as_array().unwrap().len(), 6);
+
+    let text = cellsweep(&[
+        "fit",
+        "--counts",
+        counts.to_str().unwrap(),
+        "--bootstrap",
+        "50",
+    ]);
+    let t = String::from_utf8(text.stdout).unwrap();
+    assert!(
+        t.contains("(paper: 0.6)") && t.contains("(paper: -12)"),
+        "{t}"
+    );
+
+    // One column only: a clear message, non-zero exit.
+    let one = dir.join("one.csv");
+    std::fs::write(&one, "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined\n0.1,10,90,5,90,6,0,0\n0.1,14,90,5,10,86,0,0\n").unwrap();
+    let out = cellsweep(&["fit", "--counts", one.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cannot fit the beta_crit line") && err.contains("a line needs two"),
+        "{err}"
+    );
+
+    // A malformed counts file names the line.
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined\n0.1,10,90,5,x,6,0,0\n",
+    )
+    .unwrap();
+    let out = cellsweep(&["fit", "--counts", bad.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("line 2: n_train"));
+}
+
+#[test]
+fn plot_writes_svg_and_png_for_each_diagram() {
+    let dir = workdir("plot");
+    let counts = write_counts(&dir);
+    let out_dir = dir.join("plots");
+    let out = cellsweep(&[
+        "plot",
+        "--counts",
+        counts.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in ["phase-L90-sigma5.svg", "phase-L90-sigma5.png"] {
+        let bytes = std::fs::read(out_dir.join(f)).unwrap();
+        assert!(bytes.len() > 500, "{f}");
+    }
+    // A counts file carries no free speeds: the speed figure says so.
+    let speed = std::fs::read_to_string(out_dir.join("free-speed.svg")).unwrap();
+    assert!(speed.contains("no free speeds recorded"));
+    assert!(out_dir.join("free-speed.png").exists());
+    let svg = std::fs::read_to_string(out_dir.join("phase-L90-sigma5.svg")).unwrap();
+    assert!(svg.contains("paper beta_crit") && svg.contains("fit a="));
+    let png = std::fs::read(out_dir.join("phase-L90-sigma5.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+}

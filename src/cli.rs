@@ -28,6 +28,9 @@ pub enum Command {
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
+    /// Measure the solver on this machine, one core: step rates, one whole trajectory, and the
+    /// NumPy yardstick (scripts/numpy_yardstick.py) where Python and NumPy are available.
+    Bench(BenchArgs),
     /// Serve jobs on stdin/stdout (JSON lines); started by `run`, not by hand.
     #[command(hide = true)]
     Worker,
@@ -220,4 +223,20 @@ pub struct PlotArgs {
     /// Folder for the pictures (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip the whole trajectory (takes about a minute); only the step rates.
+    #[arg(long)]
+    pub quick: bool,
+    /// Skip the NumPy yardstick.
+    #[arg(long)]
+    pub no_yardstick: bool,
+    /// Python interpreter for the yardstick.
+    #[arg(long, default_value = "python3")]
+    pub python: String,
 }

@@ -1,5 +1,6 @@
 //! One module per subcommand. Each returns the process's exit code.
 
+mod bench;
 mod counts;
 mod fit;
 mod model;
@@ -21,6 +22,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Table(args) => table::run(args).map(|_| 0),
         Command::Fit(args) => fit::run(args),
         Command::Plot(args) => plot::run(args).map(|_| 0),
+        Command::Bench(args) => bench::run(args).map(|_| 0),
         Command::Worker => {
             let stdin = std::io::stdin();
             let stdout = std::io::stdout();

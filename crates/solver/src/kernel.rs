@@ -278,6 +278,22 @@ unsafe fn step_body_avx2(
     step_body(nx, ny, fibers, k, phi, p, other, out)
 }
 
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn step_body_avx512(
+    nx: usize,
+    ny: usize,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+) -> Sums {
+    step_body(nx, ny, fibers, k, phi, p, other, out)
+}
+
 /// Advance one cell by one step: reads `phi` (and the other cell's phi, if any), updates `p` in
 /// place, writes phi(t+dt) into `out` and returns the sums of `out`.
 pub fn step_cell(
@@ -297,6 +313,12 @@ pub fn step_cell(
     }
     #[cfg(target_arch = "x86_64")]
     {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::env::var_os("CELLSWEEP_NO_AVX512").is_none()
+        {
+            // SAFETY: the CPU supports AVX-512F (checked just above).
+            return unsafe { step_body_avx512(lat.nx, lat.ny, fibers, k, phi, p, other, out) };
+        }
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2 (checked just above).
             return unsafe { step_body_avx2(lat.nx, lat.ny, fibers, k, phi, p, other, out) };

@@ -1,0 +1,246 @@
+//! `cellsweep bench`: speed of the solver on this machine, on one core.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use cellsweep_solver::cell::step_pair;
+use cellsweep_solver::prep::{initial_circle, kick};
+use cellsweep_solver::{
+    run_trajectory, Cell, Config, Fibers, Lattice, Monitor, Params, Seeds, Stage,
+};
+use serde_json::{json, Value};
+
+use crate::cli::BenchArgs;
+
+/// Wall time of each stage of a trajectory.
+#[derive(Default)]
+struct StageClock {
+    current: Option<(Stage, Instant)>,
+    seconds: Vec<(Stage, f64)>,
+}
+
+impl StageClock {
+    fn close(&mut self) {
+        if let Some((stage, t)) = self.current.take() {
+            self.seconds.push((stage, t.elapsed().as_secs_f64()));
+        }
+    }
+    fn get(&self, s: Stage) -> f64 {
+        self.seconds.iter().filter(|x| x.0 == s).map(|x| x.1).sum()
+    }
+}
+
+impl Monitor for StageClock {
+    fn stage(&mut self, stage: Stage, _total: u64) {
+        self.close();
+        self.current = Some((stage, Instant::now()));
+    }
+}
+
+/// The yardstick's start on the pair lattice: two circles, fronts kicked, cell 2 mirrored.
+fn pair_start(params: &Params) -> (Lattice, Fibers, Cell, Cell) {
+    let lat = Lattice::new(400, 200);
+    let fibers = Fibers::new(params, 200);
+    let circle = |cx: f64| -> Vec<f64> {
+        let mut phi = lat.zeros();
+        for j in 0..200 {
+            for i in 0..400 {
+                let r = ((i as f64 - cx).powi(2) + (j as f64 - 99.5).powi(2)).sqrt();
+                phi[lat.idx(i, j)] = 0.5 + 0.5 * ((params.R0 - r) / (2.0 * params.d)).tanh();
+            }
+        }
+        phi
+    };
+    let (phi1, phi2) = (circle(99.5), circle(299.5));
+    let kicked = |phi: &[f64], front: &dyn Fn(usize) -> bool| -> Vec<f64> {
+        (0..phi.len())
+            .map(|k| {
+                if phi[k] > 0.5 && front(k % 400) {
+                    1.0
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    };
+    let (p1, p2) = (kicked(&phi1, &|i| i >= 100), kicked(&phi2, &|i| i <= 299));
+    let a = Cell::new(&lat, &fibers, phi1, p1);
+    let b = Cell::new(&lat, &fibers, phi2, p2);
+    (lat, fibers, a, b)
+}
+
+fn yardstick(python: &str) -> Result<Value, String> {
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/numpy_yardstick.py");
+    if !script.exists() {
+        return Err(format!("{} not found", script.display()));
+    }
+    let out = std::process::Command::new(python)
+        .arg(&script)
+        .args(["20", "10"])
+        .output()
+        .map_err(|e| format!("cannot run {python}: {e}"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(err.lines().last().unwrap_or("failed").to_string());
+    }
+    serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())
+}
+
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    let params = Params {
+        alpha: 0.1,
+        beta: 14.0,
+        L: 90,
+        sigma: 5.0,
+        ..Params::default()
+    };
+
+    // Single-cell step, 200 x 200, motile with noise.
+    let lat = Lattice::new(200, 200);
+    let fibers = Fibers::new(&params, 200);
+    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, &params), lat.zeros());
+    kick(&lat, &mut cell);
+    for _ in 0..200 {
+        cell.step(&lat, &fibers, &params, [0.05, -0.03], true);
+    }
+    let n_single = 3000;
+    let t = Instant::now();
+    for _ in 0..n_single {
+        cell.step(&lat, &fibers, &params, [0.05, -0.03], true);
+    }
+    let single = n_single as f64 / t.elapsed().as_secs_f64();
+
+    // Two-cell step, 400 x 200, one thread.
+    let (plat, pfib, mut a, mut b) = pair_start(&params);
+    let mut noise_free = params.clone();
+    noise_free.v0 = 0.0;
+    for _ in 0..10 {
+        step_pair(
+            &mut a,
+            &mut b,
+            &plat,
+            &pfib,
+            &noise_free,
+            [[0.0; 2]; 2],
+            false,
+        );
+    }
+    let check = json!({
+        "sum_phi_1": a.phi.iter().sum::<f64>(),
+        "area_1": a.sums.area,
+        "area_2": b.sums.area,
+        "sum_p_1": a.p.iter().sum::<f64>(),
+    });
+    let n_pair = 1000;
+    let t = Instant::now();
+    for _ in 0..n_pair {
+        step_pair(
+            &mut a,
+            &mut b,
+            &plat,
+            &pfib,
+            &noise_free,
+            [[0.0; 2]; 2],
+            false,
+        );
+    }
+    let pair = n_pair as f64 / t.elapsed().as_secs_f64();
+
+    let mut report = json!({
+        "single_steps_per_s": single,
+        "single_site_updates_per_s": single * 40_000.0,
+        "pair_steps_per_s": pair,
+        "pair_site_updates_per_s": pair * 2.0 * 80_000.0,
+        "pair_step_s": 1.0 / pair,
+        "threads": 1,
+    });
+
+    if !args.no_yardstick {
+        match yardstick(&args.python) {
+            Ok(y) => {
+                let np = y["pair_step_s"].as_f64().unwrap_or(f64::NAN);
+                let worst = ["sum_phi_1", "area_1", "area_2", "sum_p_1"]
+                    .iter()
+                    .map(|k| {
+                        let (r, p) = (
+                            check[k].as_f64().unwrap_or(f64::NAN),
+                            y[k].as_f64().unwrap_or(f64::NAN),
+                        );
+                        (r - p).abs() / p.abs().max(1e-300)
+                    })
+                    .fold(0.0, f64::max);
+                report["numpy_pair_step_s"] = np.into();
+                report["speedup_pair_vs_numpy"] = (np * pair).into();
+                report["numpy_agreement_rel"] = worst.into();
+                report["numpy_version"] = y["numpy"].clone();
+            }
+            Err(e) => report["numpy_yardstick"] = format!("skipped: {e}").into(),
+        }
+    }
+
+    if !args.quick {
+        let config = Config {
+            params: params.clone(),
+            ..Config::default()
+        };
+        let mut clock = StageClock::default();
+        let t = Instant::now();
+        let (result, _, _) = run_trajectory(&config, Seeds::from_run_seed(1), &mut clock, false)?;
+        let total = t.elapsed().as_secs_f64();
+        clock.close();
+        let (relax, free, collide) = (
+            clock.get(Stage::Relax),
+            clock.get(Stage::Free),
+            clock.get(Stage::Collide),
+        );
+        report["trajectory"] = json!({
+            "alpha": 0.1, "beta": 14.0, "L": 90, "sigma": 5.0, "seed": 1,
+            "outcome": result.outcome, "collision_steps": result.collision_steps,
+            "relax_s": relax, "free_s": free, "collide_s": collide, "total_s": total,
+        });
+        report["trajectory_s"] = (collide + (relax + free) / 96.0).into();
+    }
+
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    let r = &report;
+    let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+    println!("one core, float64:");
+    println!(
+        "  single-cell step 200x200   {:>8.0} steps/s   {:>6.0} M site updates/s",
+        f("single_steps_per_s"),
+        f("single_site_updates_per_s") / 1e6
+    );
+    println!(
+        "  two-cell step 400x200      {:>8.0} steps/s   {:>6.0} M site updates/s",
+        f("pair_steps_per_s"),
+        f("pair_site_updates_per_s") / 1e6
+    );
+    if r.get("numpy_pair_step_s").is_some() {
+        println!(
+            "  NumPy yardstick            {:>8.2} ms/step   -> the kernel is {:.0}x faster (integrals agree to {:.1e})",
+            f("numpy_pair_step_s") * 1e3,
+            f("speedup_pair_vs_numpy"),
+            f("numpy_agreement_rel")
+        );
+    } else if let Some(s) = r.get("numpy_yardstick") {
+        println!("  NumPy yardstick            {}", s.as_str().unwrap_or(""));
+    }
+    if let Some(t) = r.get("trajectory") {
+        println!(
+            "  trajectory (alpha 0.1, beta 14, L 90, sigma 5): relax {:.1} s, free {:.1} s, collision {:.1} s ({} steps, {})",
+            t["relax_s"].as_f64().unwrap_or(0.0),
+            t["free_s"].as_f64().unwrap_or(0.0),
+            t["collide_s"].as_f64().unwrap_or(0.0),
+            t["collision_steps"],
+            t["outcome"].as_str().unwrap_or("-")
+        );
+        println!(
+            "  per trajectory, prep shared by 96 replicates: {:.1} s",
+            f("trajectory_s")
+        );
+    }
+    Ok(())
+}

@@ -176,8 +176,7 @@ fn wait_for(db: &Path, sql: &str, at_least: i64, limit: Duration) {
     let start = Instant::now();
     while start.elapsed() < limit {
         if db.exists() {
-            let ok =
-                std::panic::catch_unwind(|| db_query(db, sql)).map_or(false, |n| n >= at_least);
+            let ok = std::panic::catch_unwind(|| db_query(db, sql)).is_ok_and(|n| n >= at_least);
             if ok {
                 return;
             }

@@ -66,6 +66,7 @@ impl Raster {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn line(
         &mut self,
         x1: f64,

@@ -194,7 +194,7 @@ impl Run<'_> {
             } else {
                 let payload = self.payload(job.prep_id)?;
                 worker.preps.insert(job.prep_id);
-                Some(payload)
+                Some(Box::new(payload))
             };
             let req = Request::Collide {
                 task: job.id,
@@ -262,7 +262,7 @@ impl Run<'_> {
                 self.store.commit_prep(task.id, &rec)?;
                 self.progress.preps_done += 1;
                 let (verdict, speed) = (prep.verdict.as_str(), prep.free_speed);
-                self.payloads.insert(task.id, prep);
+                self.payloads.insert(task.id, *prep);
                 self.prep_decided(task.id, verdict, speed)?;
             }
             (Busy::Job(task), Response::Collide { result, wall_s, .. }) => {

@@ -83,7 +83,7 @@ pub enum Request {
         config: Config,
         seed: u64,
         prep_id: i64,
-        prep: Option<PrepPayload>,
+        prep: Option<Box<PrepPayload>>,
     },
 }
 
@@ -101,7 +101,7 @@ impl Request {
 pub enum Response {
     Prep {
         task: i64,
-        prep: PrepPayload,
+        prep: Box<PrepPayload>,
         wall_s: f64,
     },
     Collide {

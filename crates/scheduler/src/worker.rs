@@ -89,7 +89,7 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
             task, config, seed, ..
         } => match prepare(&config.params, &config.protocol, seed, &mut Silent) {
             Ok(prep) => {
-                let payload = PrepPayload::from_prep(&prep);
+                let payload = Box::new(PrepPayload::from_prep(&prep));
                 remember(cache, task, prep);
                 Response::Prep {
                     task,

@@ -19,8 +19,13 @@ pub enum Command {
     /// Run (or resume) a sweep on this machine: register it in the store, expand it into seeded
     /// jobs and dispatch them to worker processes.
     Run(RunArgs),
-    /// Progress of every sweep in the store: jobs by state, outcome counts, throughput, ETA.
+    /// Progress of every sweep in the store: jobs by state, outcome counts, throughput, ETA,
+    /// and the Slurm state of submitted arrays.
     Status(StatusArgs),
+    /// Submit a sweep's unfinished work to a Slurm cluster as job arrays.
+    Submit(SubmitArgs),
+    /// Ingest the result files of Slurm array tasks into the store (idempotent).
+    Collect(CollectArgs),
     /// Phase-diagram tables: outcome counts, fractions with 95% Wilson intervals, and labels.
     Table(TableArgs),
     /// Fit the beta_crit line beta* = a alpha~/L~ + b to the walk-past/training crossings.
@@ -31,9 +36,10 @@ pub enum Command {
     /// Measure the solver on this machine, one core: step rates, one whole trajectory, and the
     /// NumPy yardstick (scripts/numpy_yardstick.py) where Python and NumPy are available.
     Bench(BenchArgs),
-    /// Serve jobs on stdin/stdout (JSON lines); started by `run`, not by hand.
+    /// Serve jobs on stdin/stdout (JSON lines), started by `run`; or, with --slurm, run one
+    /// Slurm array task's slice of jobs.
     #[command(hide = true)]
-    Worker,
+    Worker(WorkerArgs),
 }
 
 /// The store to use.
@@ -239,4 +245,63 @@ pub struct BenchArgs {
     /// Python interpreter for the yardstick.
     #[arg(long, default_value = "python3")]
     pub python: String,
+}
+
+#[derive(Debug, Args)]
+pub struct WorkerArgs {
+    /// Run the array task SLURM_ARRAY_TASK_ID of this submission directory.
+    #[arg(long, value_name = "SUB_DIR")]
+    pub slurm: Option<std::path::PathBuf>,
+    /// prep or collide.
+    #[arg(long, default_value = "collide")]
+    pub kind: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Backend {
+    Slurm,
+}
+
+#[derive(Debug, Args)]
+pub struct SubmitArgs {
+    /// Sweep file.
+    pub sweep: std::path::PathBuf,
+    /// The cluster's scheduler.
+    #[arg(long, value_enum)]
+    pub backend: Backend,
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// Run directory on the cluster's shared filesystem (default: cellsweep-runs/NAME).
+    #[arg(long, value_name = "DIR")]
+    pub run_dir: Option<std::path::PathBuf>,
+    /// Slurm partition.
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// Time limit of one array task, HH:MM:SS.
+    #[arg(long)]
+    pub time: Option<String>,
+    /// Collision jobs per array task (raised if the array would exceed MaxArraySize).
+    #[arg(long, default_value_t = 8)]
+    pub jobs_per_task: usize,
+    /// Most array tasks running at once (Slurm's %N throttle).
+    #[arg(long)]
+    pub max_array: Option<usize>,
+    /// Extra #SBATCH line, e.g. --sbatch-arg=--account=abc (repeatable).
+    #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
+    pub sbatch_args: Vec<String>,
+    /// Print the scripts without writing or submitting anything.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// As for `run`: register even though a different sweep has the name.
+    #[arg(long)]
+    pub replace: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct CollectArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// Only this sweep.
+    #[arg(long)]
+    pub sweep: Option<String>,
 }

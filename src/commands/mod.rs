@@ -8,6 +8,7 @@ mod plot;
 mod relax;
 mod run;
 mod simulate;
+mod slurm;
 mod status;
 mod table;
 
@@ -23,7 +24,14 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Fit(args) => fit::run(args),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
-        Command::Worker => {
+        Command::Submit(args) => slurm::submit(args).map(|_| 0),
+        Command::Collect(args) => slurm::collect(args).map(|_| 0),
+        Command::Worker(args) => {
+            if let Some(dir) = &args.slurm {
+                cellsweep_scheduler::slurm::serve_array_task(dir, &args.kind)
+                    .map_err(anyhow::Error::msg)?;
+                return Ok(0);
+            }
             let stdin = std::io::stdin();
             let stdout = std::io::stdout();
             cellsweep_scheduler::worker::serve(stdin.lock(), stdout.lock())?;

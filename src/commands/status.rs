@@ -53,6 +53,26 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         );
         println!("  preps    {} / {} done", s.preps_done, s.preps_total);
         println!("  outcomes {}", outcome_line(&s.outcomes));
+        if let Ok(id) = store.sweep_id(&s.sweep) {
+            let arrays = store.arrays_of(id, &s.solver_version)?;
+            if !arrays.is_empty() {
+                let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
+                let queue = cellsweep_scheduler::slurm::queue_states(&ids).map_or(
+                    "squeue unavailable".to_string(),
+                    |st| {
+                        if st.is_empty() {
+                            "none queued or running".to_string()
+                        } else {
+                            st.iter()
+                                .map(|(k, n)| format!("{n} {k}"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        }
+                    },
+                );
+                println!("  slurm    arrays {} · tasks: {queue}", ids.join(", "));
+            }
+        }
         match (s.jobs_per_s, s.eta_s) {
             (Some(r), Some(eta)) if j.pending + j.running > 0 => {
                 println!(

@@ -76,7 +76,7 @@ struct Worker {
 }
 
 /// The record of a job decided by its prep's verdict (no collision run).
-fn verdict_record(
+pub(crate) fn verdict_record(
     verdict: &str,
     free_speed: Option<f64>,
     prep_id: i64,
@@ -98,7 +98,7 @@ fn verdict_record(
     }
 }
 
-fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
+pub(crate) fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
     ResultRecord {
         verdict: r.verdict.as_str().to_string(),
         outcome: r.outcome.map(|o| o.as_str().to_string()),

@@ -11,6 +11,7 @@ pub mod error;
 pub mod grid;
 pub mod plan;
 pub mod pool;
+pub mod slurm;
 pub mod sweep;
 pub mod wire;
 pub mod worker;

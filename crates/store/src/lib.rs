@@ -11,6 +11,7 @@ pub mod fit;
 pub mod lifecycle;
 pub mod phase;
 pub mod schema;
+pub mod slurm;
 pub mod status;
 pub mod store;
 
@@ -18,6 +19,7 @@ pub use error::{Result, StoreError};
 pub use fit::{fit_line, Column, Fit, NoFit, Scales};
 pub use lifecycle::JobState;
 pub use phase::{wilson, Counts, Fraction, Label};
+pub use slurm::SlurmArray;
 pub use status::{OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{
     bytes_to_f64s, f64s_to_bytes, now, JobTask, NewJob, NewPoint, NewPrep, NewSweep, PrepRecord,

@@ -93,6 +93,19 @@ CREATE TABLE results (
     finished_at     REAL NOT NULL
 );
 
+-- Slurm job arrays submitted for a sweep (`cellsweep submit`).
+CREATE TABLE slurm_arrays (
+    id             INTEGER PRIMARY KEY,
+    sweep_id       INTEGER NOT NULL REFERENCES sweeps(id),
+    solver_version TEXT NOT NULL,
+    kind           TEXT NOT NULL CHECK (kind IN ('prep', 'collide')),
+    slurm_job_id   TEXT NOT NULL,
+    run_dir        TEXT NOT NULL,
+    tasks          INTEGER NOT NULL,
+    jobs           INTEGER NOT NULL,
+    submitted_at   REAL NOT NULL
+);
+
 CREATE INDEX jobs_by_point ON jobs(point_id, solver_version, state);
 CREATE INDEX jobs_by_prep ON jobs(prep_id, state);
 CREATE INDEX points_by_sweep ON points(sweep_id);

@@ -645,7 +645,7 @@ fn insert_sweep(tx: &rusqlite::Transaction<'_>, sweep: &NewSweep) -> Result<i64>
     Ok(tx.last_insert_rowid())
 }
 
-fn insert_result(
+pub(crate) fn insert_result(
     tx: &rusqlite::Transaction<'_>,
     job_id: i64,
     version: &str,

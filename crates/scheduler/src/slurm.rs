@@ -1,0 +1,572 @@
+//! Slurm as the distributed engine: `submit` writes task files and sbatch scripts into a run
+//! directory on the cluster's shared filesystem and submits two job arrays (preps, then
+//! collisions with a dependency); array tasks run `cellsweep worker --slurm` on their slice and
+//! append one JSON line per result to a file of their own; `collect` ingests those files into
+//! the store, idempotently. Compute nodes never open the SQLite database.
+//!
+//! Run directory layout:
+//! ```text
+//! RUN_DIR/preps/<prep id>.json            prepped cells (written atomically: tmp + rename)
+//! RUN_DIR/sub-<n>/tasks/<kind>/<task>.jsonl    requests of one array task
+//! RUN_DIR/sub-<n>/results/<kind>-<task>.jsonl  one response per line, appended and flushed
+//! RUN_DIR/sub-<n>/{prep,collide}.sbatch, logs/
+//! ```
+
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use cellsweep_solver::{Config, Verdict};
+use cellsweep_store::{JobState, PrepRecord, SlurmArray, Store};
+use serde_json::json;
+
+use crate::coordinator::result_record;
+use crate::wire::{PrepPayload, Request, Response};
+
+/// How to submit.
+#[derive(Debug, Clone)]
+pub struct SubmitOptions {
+    pub run_dir: PathBuf,
+    pub partition: Option<String>,
+    pub time: Option<String>,
+    pub jobs_per_task: usize,
+    /// Most array tasks running at once (`%N`).
+    pub max_running: Option<usize>,
+    pub sbatch_args: Vec<String>,
+    /// The cellsweep executable the array tasks run (on the shared filesystem).
+    pub exe: PathBuf,
+    pub dry_run: bool,
+}
+
+/// What a submission did.
+#[derive(Debug, Clone, Default)]
+pub struct Submission {
+    pub sub_dir: PathBuf,
+    pub prep_tasks: usize,
+    pub preps: usize,
+    pub collide_tasks: usize,
+    pub jobs: usize,
+    pub jobs_per_task: usize,
+    pub scripts: Vec<(String, String)>,
+    pub slurm_ids: Vec<(String, String)>,
+}
+
+fn io(e: std::io::Error, what: &Path) -> String {
+    format!("{}: {e}", what.display())
+}
+
+/// MaxArraySize of the cluster (`scontrol show config`); array indices must stay below it.
+pub fn max_array_size() -> Option<usize> {
+    let out = std::process::Command::new("scontrol")
+        .args(["show", "config"])
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .find(|l| l.trim_start().starts_with("MaxArraySize"))
+        .and_then(|l| l.split('=').nth(1))
+        .and_then(|v| v.trim().parse().ok())
+}
+
+/// The sbatch script of one array.
+pub fn script(
+    opts: &SubmitOptions,
+    sub_dir: &Path,
+    kind: &str,
+    tasks: usize,
+    name: &str,
+) -> String {
+    let mut s = String::from("#!/bin/bash\n");
+    s += &format!("#SBATCH --job-name=cellsweep-{name}-{kind}\n");
+    let throttle = opts.max_running.map_or(String::new(), |n| format!("%{n}"));
+    s += &format!("#SBATCH --array=0-{}{throttle}\n", tasks.saturating_sub(1));
+    s += &format!(
+        "#SBATCH --output={}/logs/{kind}-%a.out\n",
+        sub_dir.display()
+    );
+    s += "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n";
+    // Two minutes' warning before the time limit: the task stops after its current record.
+    s += "#SBATCH --signal=B:USR1@120\n";
+    if let Some(p) = &opts.partition {
+        s += &format!("#SBATCH --partition={p}\n");
+    }
+    if let Some(t) = &opts.time {
+        s += &format!("#SBATCH --time={t}\n");
+    }
+    for a in &opts.sbatch_args {
+        s += &format!("#SBATCH {a}\n");
+    }
+    s += &format!(
+        "exec {} worker --slurm {} --kind {kind}\n",
+        opts.exe.display(),
+        sub_dir.display()
+    );
+    s
+}
+
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, bytes).map_err(|e| io(e, &tmp))?;
+    std::fs::rename(&tmp, path).map_err(|e| io(e, path))
+}
+
+fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, String> {
+    std::fs::create_dir_all(dir).map_err(|e| io(e, dir))?;
+    let mut n = 0;
+    for (k, chunk) in reqs.chunks(per_task.max(1)).enumerate() {
+        let mut text = String::new();
+        for r in chunk {
+            text += &serde_json::to_string(r).map_err(|e| e.to_string())?;
+            text.push('\n');
+        }
+        write_atomic(&dir.join(format!("{k}.jsonl")), text.as_bytes())?;
+        n += 1;
+    }
+    Ok(n)
+}
+
+fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, String> {
+    let mut cmd = std::process::Command::new("sbatch");
+    cmd.arg("--parsable");
+    if let Some(d) = dependency {
+        cmd.arg(format!("--dependency=afterany:{d}"));
+    }
+    let out = cmd
+        .arg(script)
+        .output()
+        .map_err(|e| format!("cannot run sbatch: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "sbatch {} failed: {}",
+            script.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let id = String::from_utf8_lossy(&out.stdout)
+        .trim()
+        .split(';')
+        .next()
+        .unwrap_or("")
+        .to_string();
+    if id.is_empty() {
+        return Err("sbatch printed no job id".into());
+    }
+    Ok(id)
+}
+
+/// Submit the sweep's preps and jobs that have no result yet.
+pub fn submit(
+    store: &mut Store,
+    sweep_id: i64,
+    name: &str,
+    version: &str,
+    opts: &SubmitOptions,
+) -> Result<Submission, String> {
+    let e = |x: cellsweep_store::StoreError| x.to_string();
+    let preps_dir = opts.run_dir.join("preps");
+    let preps = store.preps_of(sweep_id, version).map_err(e)?;
+    let jobs = store.pending_jobs(sweep_id, version).map_err(e)?;
+    // Preps decided earlier: a verdict that is not ok settles its jobs; ok preps are written
+    // out for the collision tasks.
+    let mut prep_reqs = Vec::new();
+    let mut blocked = std::collections::HashSet::new();
+    for p in &preps {
+        match (p.state, p.verdict.as_deref()) {
+            (JobState::Done, Some("ok")) => {
+                let path = preps_dir.join(format!("{}.json", p.id));
+                if !path.exists() && !opts.dry_run {
+                    std::fs::create_dir_all(&preps_dir).map_err(|x| io(x, &preps_dir))?;
+                    let payload = payload_from_store(store, p.id, p.seed)?;
+                    write_atomic(
+                        &path,
+                        serde_json::to_string(&payload)
+                            .map_err(|x| x.to_string())?
+                            .as_bytes(),
+                    )?;
+                }
+            }
+            (JobState::Done, Some(v)) => {
+                if !opts.dry_run {
+                    let rec = crate::coordinator::verdict_record(v, None, p.id, "{}");
+                    store
+                        .settle_jobs_of_prep(sweep_id, p.id, version, &rec)
+                        .map_err(e)?;
+                }
+                blocked.insert(p.id);
+            }
+            (JobState::Failed, _) => {
+                blocked.insert(p.id);
+            }
+            _ => {
+                let config: Config = serde_json::from_str(&p.config).map_err(|x| x.to_string())?;
+                prep_reqs.push(Request::Prep {
+                    task: p.id,
+                    attempt: p.attempts + 1,
+                    config,
+                    seed: p.seed,
+                });
+            }
+        }
+    }
+    let mut job_reqs = Vec::new();
+    for j in jobs.iter().filter(|j| !blocked.contains(&j.prep_id)) {
+        let config: Config = serde_json::from_str(&j.config).map_err(|x| x.to_string())?;
+        job_reqs.push(Request::Collide {
+            task: j.id,
+            attempt: j.attempts + 1,
+            config,
+            seed: j.seed,
+            prep_id: j.prep_id,
+            prep: None,
+        });
+    }
+    let max_index = max_array_size().unwrap_or(1001).saturating_sub(1).max(1);
+    let per_task = opts
+        .jobs_per_task
+        .max(1)
+        .max(job_reqs.len().div_ceil(max_index));
+    let prep_per_task = 1usize.max(prep_reqs.len().div_ceil(max_index));
+    let n = std::fs::read_dir(&opts.run_dir)
+        .map(|d| d.count())
+        .unwrap_or(0);
+    let sub_dir = opts
+        .run_dir
+        .join(format!("sub-{n:04}-{}", std::process::id()));
+    let mut sub = Submission {
+        sub_dir: sub_dir.clone(),
+        jobs_per_task: per_task,
+        preps: prep_reqs.len(),
+        jobs: job_reqs.len(),
+        ..Default::default()
+    };
+    sub.prep_tasks = prep_reqs.len().div_ceil(prep_per_task);
+    sub.collide_tasks = job_reqs.len().div_ceil(per_task);
+    if sub.prep_tasks > 0 {
+        sub.scripts.push((
+            "prep".into(),
+            script(opts, &sub_dir, "prep", sub.prep_tasks, name),
+        ));
+    }
+    if sub.collide_tasks > 0 {
+        sub.scripts.push((
+            "collide".into(),
+            script(opts, &sub_dir, "collide", sub.collide_tasks, name),
+        ));
+    }
+    if opts.dry_run || sub.scripts.is_empty() {
+        return Ok(sub);
+    }
+    for d in ["logs", "results"] {
+        std::fs::create_dir_all(sub_dir.join(d)).map_err(|x| io(x, &sub_dir))?;
+    }
+    std::fs::create_dir_all(&preps_dir).map_err(|x| io(x, &preps_dir))?;
+    write_tasks(&sub_dir.join("tasks/prep"), &prep_reqs, prep_per_task)?;
+    write_tasks(&sub_dir.join("tasks/collide"), &job_reqs, per_task)?;
+    let mut previous: Option<String> = None;
+    for (kind, text) in sub.scripts.clone() {
+        let path = sub_dir.join(format!("{kind}.sbatch"));
+        write_atomic(&path, text.as_bytes())?;
+        let id = sbatch(&path, previous.as_deref())?;
+        let (tasks, count) = if kind == "prep" {
+            (sub.prep_tasks, sub.preps)
+        } else {
+            (sub.collide_tasks, sub.jobs)
+        };
+        store
+            .record_array(
+                sweep_id,
+                version,
+                &SlurmArray {
+                    kind: kind.clone(),
+                    slurm_job_id: id.clone(),
+                    run_dir: opts.run_dir.display().to_string(),
+                    tasks: tasks as i64,
+                    jobs: count as i64,
+                    submitted_at: cellsweep_store::now(),
+                },
+            )
+            .map_err(e)?;
+        sub.slurm_ids.push((kind, id.clone()));
+        previous = Some(id);
+    }
+    Ok(sub)
+}
+
+fn payload_from_store(store: &Store, prep_id: i64, seed: u64) -> Result<PrepPayload, String> {
+    let rec = store.load_prep(prep_id).map_err(|e| e.to_string())?;
+    let summary: serde_json::Value =
+        serde_json::from_str(&rec.summary).map_err(|e| e.to_string())?;
+    let prep = cellsweep_solver::Prep {
+        seed,
+        verdict: serde_json::from_value(json!(rec.verdict)).map_err(|e| e.to_string())?,
+        verdict_time: rec.verdict_time,
+        free_speed: rec.free_speed,
+        relaxed: serde_json::from_value(summary["relaxed"].clone()).map_err(|e| e.to_string())?,
+        prepped: serde_json::from_value(summary["prepped"].clone()).map_err(|e| e.to_string())?,
+        lattice: [rec.nx, rec.ny],
+        phi: rec.phi,
+        p: rec.p,
+    };
+    Ok(PrepPayload::from_prep(&prep))
+}
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_usr1(_: libc::c_int) {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+/// The array task's side: run the requests of `SUB_DIR/tasks/<kind>/<SLURM_ARRAY_TASK_ID>.jsonl`
+/// that have no result yet, appending each response to `SUB_DIR/results/<kind>-<task>.jsonl`.
+/// On SIGUSR1 (Slurm's warning before the time limit) it stops after the current record.
+pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
+    // SAFETY: the handler only stores to an atomic.
+    unsafe {
+        libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
+    }
+    let task: usize = std::env::var("SLURM_ARRAY_TASK_ID")
+        .map_err(|_| {
+            "SLURM_ARRAY_TASK_ID is not set (this mode runs inside a Slurm array task)".to_string()
+        })?
+        .parse()
+        .map_err(|e| format!("bad SLURM_ARRAY_TASK_ID: {e}"))?;
+    let tasks = sub_dir.join(format!("tasks/{kind}/{task}.jsonl"));
+    let results = sub_dir.join(format!("results/{kind}-{task}.jsonl"));
+    let preps_dir = sub_dir
+        .parent()
+        .ok_or("run directory has no parent")?
+        .join("preps");
+    let done: std::collections::HashSet<i64> = read_responses(&results)
+        .0
+        .iter()
+        .map(|r| r.task())
+        .collect();
+    let text = std::fs::read_to_string(&tasks).map_err(|e| io(e, &tasks))?;
+    let mut out = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&results)
+        .map_err(|e| io(e, &results))?;
+    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+        if STOP.load(Ordering::SeqCst) {
+            eprintln!("SIGUSR1: stopping before the time limit; the rest is resubmitted by `cellsweep submit`");
+            break;
+        }
+        let mut req: Request =
+            serde_json::from_str(line).map_err(|e| format!("{}: {e}", tasks.display()))?;
+        if done.contains(&req.task()) {
+            continue;
+        }
+        if let Request::Collide { prep_id, prep, .. } = &mut req {
+            let path = preps_dir.join(format!("{prep_id}.json"));
+            match std::fs::read_to_string(&path)
+                .map_err(|e| io(e, &path))
+                .and_then(|t| {
+                    serde_json::from_str::<PrepPayload>(&t)
+                        .map_err(|e| format!("{}: {e}", path.display()))
+                }) {
+                Ok(p) => *prep = Some(Box::new(p)),
+                Err(error) => {
+                    let resp = Response::Failed {
+                        task: req.task(),
+                        error,
+                    };
+                    writeln!(
+                        out,
+                        "{}",
+                        serde_json::to_string(&resp).map_err(|e| e.to_string())?
+                    )
+                    .map_err(|e| io(e, &results))?;
+                    continue;
+                }
+            }
+        }
+        let mut buf = Vec::new();
+        crate::worker::serve(
+            std::io::Cursor::new(serde_json::to_vec(&req).map_err(|e| e.to_string())?),
+            &mut buf,
+        )
+        .map_err(|e| e.to_string())?;
+        let resp: Response = serde_json::from_slice(&buf).map_err(|e| e.to_string())?;
+        if let Response::Prep { task, prep, .. } = &resp {
+            let path = preps_dir.join(format!("{task}.json"));
+            // The prep file itself is the result.
+            write_atomic(
+                &path,
+                serde_json::to_string(prep)
+                    .map_err(|e| e.to_string())?
+                    .as_bytes(),
+            )?;
+        } else {
+            out.write_all(&buf).map_err(|e| io(e, &results))?;
+            out.sync_data().map_err(|e| io(e, &results))?;
+        }
+    }
+    Ok(())
+}
+
+/// Complete responses of a results file, and the problems met (a torn or malformed line).
+pub fn read_responses(path: &Path) -> (Vec<Response>, Vec<String>) {
+    let Ok(bytes) = std::fs::read(path) else {
+        return (Vec::new(), Vec::new());
+    };
+    let mut good = Vec::new();
+    let mut bad = Vec::new();
+    let text = String::from_utf8_lossy(&bytes);
+    let complete = text.ends_with('\n');
+    let lines: Vec<&str> = text.lines().collect();
+    for (i, line) in lines.iter().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let last = i + 1 == lines.len();
+        match serde_json::from_str::<Response>(line) {
+            Ok(r) if !last || complete => good.push(r),
+            Ok(_) | Err(_) if last && !complete => bad.push(format!(
+                "{}: line {}: torn record (no newline), skipped",
+                path.display(),
+                i + 1
+            )),
+            Err(e) => bad.push(format!(
+                "{}: line {}: malformed record, skipped: {e}",
+                path.display(),
+                i + 1
+            )),
+            Ok(_) => unreachable!(),
+        }
+    }
+    (good, bad)
+}
+
+/// What `collect` did.
+#[derive(Debug, Clone, Default)]
+pub struct Collected {
+    pub preps: usize,
+    pub results: usize,
+    pub already: usize,
+    pub failures: usize,
+    pub problems: Vec<String>,
+}
+
+/// Ingest the result files under `run_dir` into the store; collecting twice changes nothing.
+pub fn collect(
+    store: &mut Store,
+    sweep_id: i64,
+    version: &str,
+    run_dir: &Path,
+) -> Result<Collected, String> {
+    let e = |x: cellsweep_store::StoreError| x.to_string();
+    let mut c = Collected::default();
+    let preps = store.preps_of(sweep_id, version).map_err(e)?;
+    let preps_dir = run_dir.join("preps");
+    for p in preps.iter().filter(|p| p.state != JobState::Done) {
+        let path = preps_dir.join(format!("{}.json", p.id));
+        if !path.exists() {
+            continue;
+        }
+        let payload = match std::fs::read_to_string(&path)
+            .map_err(|x| x.to_string())
+            .and_then(|t| serde_json::from_str::<PrepPayload>(&t).map_err(|x| x.to_string()))
+        {
+            Ok(p) => p,
+            Err(x) => {
+                c.problems
+                    .push(format!("{}: malformed prep, skipped: {x}", path.display()));
+                continue;
+            }
+        };
+        let decoded = match payload.to_prep() {
+            Ok(d) => d,
+            Err(x) => {
+                c.problems.push(format!("{}: {x}", path.display()));
+                continue;
+            }
+        };
+        let rec = PrepRecord {
+            verdict: payload.verdict.as_str().to_string(),
+            verdict_time: payload.verdict_time,
+            free_speed: payload.free_speed,
+            nx: payload.lattice[0],
+            ny: payload.lattice[1],
+            phi: decoded.phi,
+            p: decoded.p,
+            summary: json!({ "relaxed": payload.relaxed, "prepped": payload.prepped }).to_string(),
+            wall_s: 0.0,
+        };
+        if store.collect_prep(p.id, &rec).map_err(e)? {
+            c.preps += 1;
+        }
+        if payload.verdict != Verdict::Ok {
+            let rec = crate::coordinator::verdict_record(
+                payload.verdict.as_str(),
+                payload.free_speed,
+                p.id,
+                "{}",
+            );
+            c.results += store
+                .settle_jobs_of_prep(sweep_id, p.id, version, &rec)
+                .map_err(e)?;
+        }
+    }
+    let mut files = Vec::new();
+    if let Ok(subs) = std::fs::read_dir(run_dir) {
+        for sub in subs.flatten() {
+            if let Ok(rs) = std::fs::read_dir(sub.path().join("results")) {
+                files.extend(rs.flatten().map(|f| f.path()));
+            }
+        }
+    }
+    files.sort();
+    for f in files {
+        let (responses, problems) = read_responses(&f);
+        c.problems.extend(problems);
+        for r in responses {
+            match r {
+                Response::Collide {
+                    task,
+                    result,
+                    wall_s,
+                } => {
+                    if store
+                        .collect_result(task, version, &result_record(&result, wall_s))
+                        .map_err(e)?
+                    {
+                        c.results += 1;
+                    } else {
+                        c.already += 1;
+                    }
+                }
+                Response::Failed { .. } => c.failures += 1,
+                Response::Prep { .. } => {}
+            }
+        }
+    }
+    Ok(c)
+}
+
+/// Counts of the sweep's array tasks by Slurm state (squeue), where Slurm answers.
+pub fn queue_states(job_ids: &[String]) -> Option<Vec<(String, usize)>> {
+    if job_ids.is_empty() {
+        return Some(Vec::new());
+    }
+    let out = std::process::Command::new("squeue")
+        .args(["-h", "-r", "-o", "%T", "-j", &job_ids.join(",")])
+        .output()
+        .ok()?;
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let s = line.trim().to_string();
+        match counts.iter_mut().find(|(k, _)| *k == s) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((s, 1)),
+        }
+    }
+    Some(counts)
+}
+
+/// Whether any line of a task file is unreadable (for tests and `--dry-run` checks).
+pub fn task_lines(path: &Path) -> std::io::Result<usize> {
+    Ok(std::io::BufReader::new(std::fs::File::open(path)?)
+        .lines()
+        .count())
+}

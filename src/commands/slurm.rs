@@ -1,0 +1,130 @@
+//! `cellsweep submit --backend slurm` and `cellsweep collect`.
+
+use anyhow::{bail, Context};
+use cellsweep_scheduler::slurm::{self, SubmitOptions};
+use cellsweep_scheduler::{plan, Sweep};
+use cellsweep_solver::SOLVER_VERSION;
+use cellsweep_store::Store;
+
+use crate::cli::{CollectArgs, SubmitArgs};
+
+fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result<()> {
+    let mut dirs: Vec<String> = store
+        .arrays_of(sweep_id, SOLVER_VERSION)?
+        .into_iter()
+        .map(|a| a.run_dir)
+        .collect();
+    dirs.sort();
+    dirs.dedup();
+    for d in dirs {
+        let c = slurm::collect(store, sweep_id, SOLVER_VERSION, std::path::Path::new(&d))
+            .map_err(anyhow::Error::msg)?;
+        for p in &c.problems {
+            eprintln!("warning: {p}");
+        }
+        println!(
+            "collected {name:?} from {d}: {} preps and {} results new, {} already in the store, {} failed attempts reported",
+            c.preps, c.results, c.already, c.failures
+        );
+    }
+    Ok(())
+}
+
+pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
+    let sweep = Sweep::load(&args.sweep)?;
+    let new = plan(&sweep, &args.sweep.display().to_string());
+    let run_dir = args
+        .run_dir
+        .clone()
+        .unwrap_or_else(|| std::path::PathBuf::from("cellsweep-runs").join(&sweep.name));
+    let run_dir = if run_dir.is_absolute() {
+        run_dir
+    } else {
+        std::env::current_dir()?.join(run_dir)
+    };
+    let opts = SubmitOptions {
+        run_dir: run_dir.clone(),
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+        jobs_per_task: args.jobs_per_task,
+        max_running: args.max_array,
+        sbatch_args: args.sbatch_args.clone(),
+        exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
+        dry_run: args.dry_run,
+    };
+    if args.dry_run && !args.db.db.exists() {
+        // Nothing to read: show the scripts of a fresh sweep without creating a store.
+        let jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
+        let sub = run_dir.join("sub-0000");
+        println!(
+            "{}",
+            slurm::script(&opts, &sub, "prep", new.preps.len(), &sweep.name)
+        );
+        println!(
+            "{}",
+            slurm::script(
+                &opts,
+                &sub,
+                "collide",
+                jobs.div_ceil(args.jobs_per_task.max(1)),
+                &sweep.name
+            )
+        );
+        return Ok(());
+    }
+    let mut store = Store::open_or_create(&args.db.db)?;
+    let reg = store.register(&new, args.replace)?;
+    // Resubmitting: first take in what finished, and refuse while earlier arrays still run.
+    collect_sweep(&mut store, reg.sweep_id, &sweep.name)?;
+    let ids: Vec<String> = store
+        .arrays_of(reg.sweep_id, SOLVER_VERSION)?
+        .into_iter()
+        .map(|a| a.slurm_job_id)
+        .collect();
+    if let Some(states) = slurm::queue_states(&ids) {
+        let active: usize = states.iter().map(|(_, n)| n).sum();
+        if active > 0 && !args.dry_run {
+            bail!("{active} array tasks of {:?} are still queued or running (squeue); wait for them or scancel them, then submit again", sweep.name);
+        }
+    }
+    let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)
+        .map_err(anyhow::Error::msg)?;
+    if args.dry_run {
+        for (_, text) in &sub.scripts {
+            println!("{text}");
+        }
+        return Ok(());
+    }
+    if sub.scripts.is_empty() {
+        println!(
+            "nothing to submit: every job of {:?} has a result",
+            sweep.name
+        );
+        return Ok(());
+    }
+    println!(
+        "submitted {:?}: {} preps in {} array tasks, {} collisions in {} array tasks ({} per task); run directory {}",
+        sweep.name, sub.preps, sub.prep_tasks, sub.jobs, sub.collide_tasks, sub.jobs_per_task, sub.sub_dir.display()
+    );
+    for (kind, id) in &sub.slurm_ids {
+        println!("  {kind}: Slurm job {id}");
+    }
+    println!(
+        "when they are done: cellsweep collect --db {}",
+        args.db.db.display()
+    );
+    Ok(())
+}
+
+pub fn collect(args: CollectArgs) -> anyhow::Result<()> {
+    let mut store = Store::open(&args.db.db)?;
+    let names = match &args.sweep {
+        Some(n) => vec![n.clone()],
+        None => store.sweep_names()?,
+    };
+    for name in names {
+        let id = store.sweep_id(&name)?;
+        collect_sweep(&mut store, id, &name)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,298 @@
+//! `submit --backend slurm` and `collect` against a real Slurm: the one-node cluster of
+//! scripts/slurm-local.sh (Debian's slurm-wlm, started here if it is not up; `.ci/run` starts it
+//! before the tests).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Once;
+use std::time::{Duration, Instant};
+
+static SLURM: Once = Once::new();
+
+fn slurm_up() {
+    SLURM.call_once(|| {
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm-local.sh");
+        let out = Command::new("bash")
+            .arg(script)
+            .arg("up")
+            .output()
+            .expect("run slurm-local.sh");
+        assert!(
+            out.status.success(),
+            "local Slurm did not come up: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    });
+}
+
+fn cellsweep(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cellsweep-slurm-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write_sweep(dir: &Path, name: &str) -> PathBuf {
+    let path = dir.join("s.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"{name}\"\nseed = 3\nreplicates = 2\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\nL = [48]\nsigma = [5, 0]\n\
+             [params]\nR0 = 24\n[protocol]\nsingle_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = 2\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn db_count(db: &Path, sql: &str) -> i64 {
+    rusqlite::Connection::open(db)
+        .unwrap()
+        .query_row(sql, [], |r| r.get(0))
+        .unwrap()
+}
+
+fn slurm_ids(stdout: &[u8]) -> Vec<String> {
+    String::from_utf8_lossy(stdout)
+        .lines()
+        .filter_map(|l| l.split("Slurm job ").nth(1).map(|s| s.trim().to_string()))
+        .collect()
+}
+
+fn wait_for(ids: &[String]) {
+    let start = Instant::now();
+    loop {
+        let out = Command::new("squeue")
+            .args(["-h", "-r", "-j", &ids.join(",")])
+            .output()
+            .unwrap();
+        if String::from_utf8_lossy(&out.stdout).trim().is_empty() {
+            return;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "Slurm jobs {ids:?} did not finish"
+        );
+        std::thread::sleep(Duration::from_millis(500));
+    }
+}
+
+fn assert_each_job_counted_once(db: &Path) {
+    let jobs = db_count(db, "SELECT COUNT(*) FROM jobs");
+    assert_eq!(jobs, 8);
+    assert_eq!(
+        db_count(db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        jobs
+    );
+    assert_eq!(db_count(db, "SELECT COUNT(*) FROM results"), jobs);
+    assert_eq!(
+        db_count(db, "SELECT COUNT(DISTINCT job_id) FROM results"),
+        jobs
+    );
+}
+
+#[test]
+fn a_sweep_submitted_through_sbatch_is_collected_exactly_once() {
+    slurm_up();
+    let dir = workdir("e2e");
+    write_sweep(&dir, "slurm-e2e");
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            "s.toml",
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--jobs-per-task",
+            "3",
+            "--max-array",
+            "2",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ids = slurm_ids(&out.stdout);
+    assert_eq!(
+        ids.len(),
+        2,
+        "a prep array and a collision array: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(
+        db_count(&dir.join("r.sqlite"), "SELECT COUNT(*) FROM slurm_arrays"),
+        2
+    );
+    wait_for(&ids);
+
+    let c = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stderr));
+    assert!(
+        String::from_utf8_lossy(&c.stdout).contains("2 preps and 8 results new"),
+        "{}",
+        String::from_utf8_lossy(&c.stdout)
+    );
+    assert_each_job_counted_once(&dir.join("r.sqlite"));
+    // Collecting twice changes nothing.
+    let again = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    assert!(String::from_utf8_lossy(&again.stdout).contains("0 preps and 0 results new, 8 already"));
+    assert_each_job_counted_once(&dir.join("r.sqlite"));
+    let st = cellsweep(&dir, &["status", "--db", "r.sqlite"]);
+    assert!(String::from_utf8_lossy(&st.stdout).contains("slurm    arrays"));
+
+    // A torn last record (a task killed mid-write) is reported with its path and skipped.
+    let results = std::fs::read_dir(dir.join("cellsweep-runs/slurm-e2e"))
+        .unwrap()
+        .flatten()
+        .find(|e| e.file_name().to_string_lossy().starts_with("sub-"))
+        .unwrap()
+        .path()
+        .join("results/collide-0.jsonl");
+    let mut bytes = std::fs::read(&results).unwrap();
+    bytes.extend_from_slice(b"{\"type\":\"collide\",\"task\":1,\"res");
+    std::fs::write(&results, bytes).unwrap();
+    let torn = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    assert!(torn.status.success());
+    let err = String::from_utf8_lossy(&torn.stderr);
+    assert!(
+        err.contains("collide-0.jsonl") && err.contains("torn record"),
+        "{err}"
+    );
+    assert_each_job_counted_once(&dir.join("r.sqlite"));
+}
+
+#[test]
+fn a_cancelled_task_is_repaired_by_submitting_again() {
+    slurm_up();
+    let dir = workdir("cancel");
+    write_sweep(&dir, "slurm-cancel");
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            "s.toml",
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--jobs-per-task",
+            "2",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ids = slurm_ids(&out.stdout);
+    // Cancel one collision task while it waits for the preps.
+    let cancel = Command::new("scancel")
+        .arg(format!("{}_1", ids[1]))
+        .status()
+        .unwrap();
+    assert!(cancel.success());
+    wait_for(&ids);
+    let c = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    assert!(
+        String::from_utf8_lossy(&c.stdout).contains("6 results new"),
+        "{}",
+        String::from_utf8_lossy(&c.stdout)
+    );
+    let db = dir.join("r.sqlite");
+    assert_eq!(
+        db_count(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'pending'"),
+        2
+    );
+
+    // Submit again: only the two jobs without a result go out, the preps are reused.
+    let again = cellsweep(
+        &dir,
+        &["submit", "s.toml", "--backend", "slurm", "--db", "r.sqlite"],
+    );
+    let text = String::from_utf8_lossy(&again.stdout);
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert!(
+        text.contains("0 preps in 0 array tasks, 2 collisions"),
+        "{text}"
+    );
+    wait_for(&slurm_ids(&again.stdout));
+    assert!(cellsweep(&dir, &["collect", "--db", "r.sqlite"])
+        .status
+        .success());
+    assert_each_job_counted_once(&db);
+}
+
+#[test]
+fn dry_run_prints_valid_sbatch_scripts_and_submits_nothing() {
+    slurm_up();
+    let dir = workdir("dry");
+    write_sweep(&dir, "slurm-dry");
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            "s.toml",
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--dry-run",
+            "--time",
+            "01:00:00",
+            "--max-array",
+            "4",
+            "--sbatch-arg=--comment=cellsweep",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(!dir.join("r.sqlite").exists(), "a dry run creates no store");
+    let scripts: Vec<&str> = text
+        .split("#!/bin/bash")
+        .filter(|s| !s.trim().is_empty())
+        .collect();
+    assert_eq!(scripts.len(), 2);
+    for (k, body) in scripts.iter().enumerate() {
+        assert!(
+            body.contains("#SBATCH --array=0-") && body.contains("%4"),
+            "{body}"
+        );
+        assert!(
+            body.contains("#SBATCH --time=01:00:00")
+                && body.contains("#SBATCH --signal=B:USR1@120")
+        );
+        assert!(body.contains("#SBATCH --comment=cellsweep"));
+        let path = dir.join(format!("script-{k}.sbatch"));
+        std::fs::write(&path, format!("#!/bin/bash{body}")).unwrap();
+        let check = Command::new("sbatch")
+            .arg("--test-only")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            check.status.success(),
+            "sbatch --test-only: {}",
+            String::from_utf8_lossy(&check.stderr)
+        );
+    }
+}

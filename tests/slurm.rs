@@ -296,3 +296,135 @@ fn dry_run_prints_valid_sbatch_scripts_and_submits_nothing() {
         );
     }
 }
+
+/// Stand-ins for sbatch, squeue and scontrol (MaxArraySize = 5), so array tasks can be run by
+/// hand: the worker side of Slurm runs, packing and signals, without waiting for a scheduler.
+fn fake_slurm(dir: &Path) -> String {
+    let bin = dir.join("fake-bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    for (name, body) in [
+        (
+            "sbatch",
+            "echo \"$@\" >> \"$(dirname \"$0\")/sbatch.log\"; echo $((RANDOM + 1000))",
+        ),
+        ("squeue", "exit 0"),
+        ("scontrol", "echo 'MaxArraySize            = 5'"),
+    ] {
+        let path = bin.join(name);
+        std::fs::write(&path, format!("#!/bin/bash\n{body}\n")).unwrap();
+        Command::new("chmod").arg("+x").arg(&path).status().unwrap();
+    }
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
+}
+
+#[test]
+fn array_tasks_respect_max_array_size_stop_cleanly_on_usr1_and_resume() {
+    let dir = workdir("usr1");
+    let sweep = write_sweep(&dir, "slurm-usr1");
+    let text = std::fs::read_to_string(&sweep)
+        .unwrap()
+        .replace("collide_time = 2", "collide_time = 16")
+        .replace("replicates = 2", "replicates = 3");
+    std::fs::write(&sweep, text).unwrap();
+    let path = fake_slurm(&dir);
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+            .current_dir(&dir)
+            .env("PATH", &path)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+
+    // 12 jobs at 1 per task would need indices 0..11; MaxArraySize = 5 allows 0..4: packed 3 per task.
+    let out = run(&[
+        "submit",
+        "s.toml",
+        "--backend",
+        "slurm",
+        "--db",
+        "r.sqlite",
+        "--jobs-per-task",
+        "1",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("12 collisions in 4 array tasks (3 per task)"),
+        "{stdout}"
+    );
+    let sub = std::fs::read_dir(dir.join("cellsweep-runs/slurm-usr1"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.file_name().unwrap().to_string_lossy().starts_with("sub-"))
+        .unwrap();
+    let collide_script = std::fs::read_to_string(sub.join("collide.sbatch")).unwrap();
+    assert!(
+        collide_script.contains("#SBATCH --array=0-3\n"),
+        "{collide_script}"
+    );
+    let log = std::fs::read_to_string(dir.join("fake-bin/sbatch.log")).unwrap();
+    assert!(
+        log.lines()
+            .nth(1)
+            .unwrap()
+            .contains("--dependency=afterany:"),
+        "collisions wait for the preps: {log}"
+    );
+
+    let task = |kind: &str, id: usize| {
+        Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+            .args(["worker", "--slurm", sub.to_str().unwrap(), "--kind", kind])
+            .env("SLURM_ARRAY_TASK_ID", id.to_string())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    for k in 0..2 {
+        assert!(task("prep", k).wait().unwrap().success());
+    }
+    // Task 0 holds three jobs. USR1 while the second runs: it finishes that record, then stops.
+    let results = sub.join("results/collide-0.jsonl");
+    let child = task("collide", 0);
+    let start = Instant::now();
+    while std::fs::read_to_string(&results).map_or(0, |t| t.lines().count()) < 1 {
+        assert!(start.elapsed() < Duration::from_secs(60), "no first record");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    Command::new("kill")
+        .args(["-USR1", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("SIGUSR1"));
+    let first = std::fs::read_to_string(&results).unwrap();
+    assert_eq!(
+        first.lines().count(),
+        2,
+        "the record in flight completes, the next is not started"
+    );
+    assert!(first.ends_with('\n'));
+
+    // Rerunning the task (as a requeue would) skips the finished records.
+    assert!(task("collide", 0).wait().unwrap().success());
+    assert_eq!(
+        std::fs::read_to_string(&results).unwrap().lines().count(),
+        3
+    );
+    let c = run(&["collect", "--db", "r.sqlite"]);
+    assert!(
+        String::from_utf8_lossy(&c.stdout).contains("2 preps and 3 results new"),
+        "{}",
+        String::from_utf8_lossy(&c.stdout)
+    );
+}

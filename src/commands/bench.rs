@@ -101,12 +101,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, &params), lat.zeros());
     kick(&lat, &mut cell);
     for _ in 0..200 {
-        cell.step(&lat, &fibers, &params, [0.05, -0.03], true);
+        cell.step(&lat, &fibers, &params, [0.05, -0.03], true, false);
     }
     let n_single = 3000;
     let t = Instant::now();
     for _ in 0..n_single {
-        cell.step(&lat, &fibers, &params, [0.05, -0.03], true);
+        cell.step(&lat, &fibers, &params, [0.05, -0.03], true, false);
     }
     let single = n_single as f64 / t.elapsed().as_secs_f64();
 

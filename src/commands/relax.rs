@@ -20,7 +20,7 @@ pub fn run(args: RelaxArgs) -> anyhow::Result<()> {
     let lat = Lattice::new(single[0], single[1]);
     let fibers = Fibers::new(&params, single[1]);
     let mut bars = StageBars::new();
-    let cell = relax(&params, &lat, &fibers, steps, &mut bars);
+    let cell = relax(&params, &lat, &fibers, steps, &mut bars, true);
     bars.finish();
     let summary = FieldSummary::of(&lat, &fibers, &cell.phi, steps);
     if args.json {

@@ -40,7 +40,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let (result, prep, collision) = match &args.frames {
         Some(dir) => {
             let mut rec = FrameRecorder::new(dir, args.frame_every)?;
-            let out = run_trajectory(&config, seeds, &mut rec, !args.serial)?;
+            let out = run_trajectory(&config, seeds, &mut rec, args.parallel)?;
             rec.finish()?;
             println!(
                 "wrote {} snapshots and an animation into {}",
@@ -51,7 +51,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         }
         None => {
             let mut bars = StageBars::new();
-            let out = run_trajectory(&config, seeds, &mut bars, !args.serial)?;
+            let out = run_trajectory(&config, seeds, &mut bars, args.parallel)?;
             bars.finish();
             out
         }

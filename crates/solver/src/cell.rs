@@ -27,7 +27,8 @@ impl Cell {
         }
     }
 
-    /// Advance this cell alone by one step (single-cell stages).
+    /// Advance this cell alone by one step (single-cell stages); with `parallel` on two threads
+    /// (same result).
     pub fn step(
         &mut self,
         lat: &Lattice,
@@ -35,6 +36,7 @@ impl Cell {
         params: &Params,
         noise: [f64; 2],
         motile: bool,
+        parallel: bool,
     ) {
         let k = StepCoeffs::new(params, &self.sums, noise, motile);
         self.sums = step_cell(
@@ -45,6 +47,7 @@ impl Cell {
             &mut self.p,
             None,
             &mut self.next,
+            parallel,
         );
         std::mem::swap(&mut self.phi, &mut self.next);
     }
@@ -66,8 +69,8 @@ pub fn step_pair(
     let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
-    let mut run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a);
-    let mut run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b);
+    let mut run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, false);
+    let mut run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, false);
     let (sa, sb) = if parallel {
         rayon::join(run_a, run_b)
     } else {

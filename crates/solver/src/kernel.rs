@@ -221,6 +221,8 @@ fn step_row<const FIBER: bool, const PAIR: bool>(
     p[n - 1] = b;
 }
 
+/// Rows `first..first + p.len() / nx` of one cell's step (`p` and `out` hold just those rows);
+/// returns each row's (area, adhesive area) contributions, to be summed in row order.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn step_body(
@@ -229,20 +231,23 @@ fn step_body(
     fibers: &Fibers,
     k: &StepCoeffs,
     phi: &[f64],
+    first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
     out: &mut [f64],
-) -> Sums {
-    let mut sums = Sums::default();
+) -> Vec<(f64, f64)> {
+    let rows = p.len() / nx;
+    let mut sums = Vec::with_capacity(rows);
     let fiber_on = k.motile || k.fiber != 0.0;
-    for j in 0..ny {
+    for r in 0..rows {
+        let j = first + r;
         let row = |r: usize| r * nx..(r + 1) * nx;
         let rj = row(j);
         let c = &phi[rj.clone()];
         let up = &phi[row((j + 1) % ny)];
         let dn = &phi[row((j + ny - 1) % ny)];
-        let pr = &mut p[rj.clone()];
-        let o = &mut out[rj.clone()];
+        let pr = &mut p[row(r)];
+        let o = &mut out[row(r)];
         let fiber = fibers.of_row(j).filter(|_| fiber_on);
         match (fiber.is_some(), other) {
             (false, None) => step_row::<false, false>(k, c, up, dn, c, pr, o),
@@ -250,14 +255,10 @@ fn step_body(
             (false, Some(q)) => step_row::<false, true>(k, c, up, dn, &q[rj], pr, o),
             (true, Some(q)) => step_row::<true, true>(k, c, up, dn, &q[rj], pr, o),
         }
-        match fibers.of_row(j) {
-            Some(f) => {
-                let (a, ad) = row_sums::<true>(o);
-                sums.area += a;
-                sums.adhesive[f as usize] += ad;
-            }
-            None => sums.area += row_sums::<false>(o).0,
-        }
+        sums.push(match fibers.of_row(j) {
+            Some(_) => row_sums::<true>(o),
+            None => (row_sums::<false>(o).0, 0.0),
+        });
     }
     sums
 }
@@ -271,11 +272,12 @@ unsafe fn step_body_avx2(
     fibers: &Fibers,
     k: &StepCoeffs,
     phi: &[f64],
+    first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
     out: &mut [f64],
-) -> Sums {
-    step_body(nx, ny, fibers, k, phi, p, other, out)
+) -> Vec<(f64, f64)> {
+    step_body(nx, ny, fibers, k, phi, first, p, other, out)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -287,15 +289,97 @@ unsafe fn step_body_avx512(
     fibers: &Fibers,
     k: &StepCoeffs,
     phi: &[f64],
+    first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
     out: &mut [f64],
+) -> Vec<(f64, f64)> {
+    step_body(nx, ny, fibers, k, phi, first, p, other, out)
+}
+
+/// The instruction sets the kernel is built for; every one gives the same bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Isa {
+    Portable,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+}
+
+/// The widest instruction set this CPU runs (`CELLSWEEP_NO_AVX512` caps it at AVX2).
+fn isa() -> Isa {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::env::var_os("CELLSWEEP_NO_AVX512").is_none()
+        {
+            return Isa::Avx512;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Isa::Avx2;
+        }
+    }
+    Isa::Portable
+}
+
+/// The integrals from per-row contributions, summed in row order (the same bits however the
+/// rows were split between threads).
+fn fold_rows(fibers: &Fibers, rows: impl IntoIterator<Item = (f64, f64)>) -> Sums {
+    let mut sums = Sums::default();
+    for (j, (a, ad)) in rows.into_iter().enumerate() {
+        sums.area += a;
+        if let Some(f) = fibers.of_row(j) {
+            sums.adhesive[f as usize] += ad;
+        }
+    }
+    sums
+}
+
+#[allow(clippy::too_many_arguments)]
+fn step_with(
+    isa: Isa,
+    lat: &Lattice,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    out: &mut [f64],
+    parallel: bool,
 ) -> Sums {
-    step_body(nx, ny, fibers, k, phi, p, other, out)
+    assert_eq!(phi.len(), lat.len());
+    assert_eq!(p.len(), lat.len());
+    assert_eq!(out.len(), lat.len());
+    if let Some(q) = other {
+        assert_eq!(q.len(), lat.len());
+    }
+    let (nx, ny) = (lat.nx, lat.ny);
+    let run = |first: usize, p: &mut [f64], out: &mut [f64]| match isa {
+        // SAFETY: `isa()` checked that this CPU runs these instructions.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { step_body_avx512(nx, ny, fibers, k, phi, first, p, other, out) },
+        // SAFETY: as above.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { step_body_avx2(nx, ny, fibers, k, phi, first, p, other, out) },
+        Isa::Portable => step_body(nx, ny, fibers, k, phi, first, p, other, out),
+    };
+    if parallel && ny >= 4 {
+        let h = ny / 2;
+        let (p0, p1) = p.split_at_mut(h * nx);
+        let (o0, o1) = out.split_at_mut(h * nx);
+        let (mut lo, hi) = rayon::join(|| run(0, p0, o0), || run(h, p1, o1));
+        lo.extend(hi);
+        fold_rows(fibers, lo)
+    } else {
+        fold_rows(fibers, run(0, p, out))
+    }
 }
 
 /// Advance one cell by one step: reads `phi` (and the other cell's phi, if any), updates `p` in
-/// place, writes phi(t+dt) into `out` and returns the sums of `out`.
+/// place, writes phi(t+dt) into `out` and returns the sums of `out`. With `parallel`, the rows
+/// are split between two threads; the result is the same bits.
+#[allow(clippy::too_many_arguments)]
 pub fn step_cell(
     lat: &Lattice,
     fibers: &Fibers,
@@ -304,27 +388,9 @@ pub fn step_cell(
     p: &mut [f64],
     other: Option<&[f64]>,
     out: &mut [f64],
+    parallel: bool,
 ) -> Sums {
-    assert_eq!(phi.len(), lat.len());
-    assert_eq!(p.len(), lat.len());
-    assert_eq!(out.len(), lat.len());
-    if let Some(q) = other {
-        assert_eq!(q.len(), lat.len());
-    }
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::env::var_os("CELLSWEEP_NO_AVX512").is_none()
-        {
-            // SAFETY: the CPU supports AVX-512F (checked just above).
-            return unsafe { step_body_avx512(lat.nx, lat.ny, fibers, k, phi, p, other, out) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2 (checked just above).
-            return unsafe { step_body_avx2(lat.nx, lat.ny, fibers, k, phi, p, other, out) };
-        }
-    }
-    step_body(lat.nx, lat.ny, fibers, k, phi, p, other, out)
+    step_with(isa(), lat, fibers, k, phi, p, other, out, parallel)
 }
 
 /// The portable path of [`step_cell`], for tests that compare it with the dispatched one.
@@ -338,5 +404,5 @@ pub fn step_cell_portable(
     other: Option<&[f64]>,
     out: &mut [f64],
 ) -> Sums {
-    step_body(lat.nx, lat.ny, fibers, k, phi, p, other, out)
+    step_with(Isa::Portable, lat, fibers, k, phi, p, other, out, false)
 }

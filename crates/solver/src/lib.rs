@@ -43,6 +43,6 @@ pub use lattice::Lattice;
 pub use monitor::{Monitor, Silent, Stage};
 pub use observables::{Attachment, FieldSummary};
 pub use params::{Geometry, Params, PARAM_NAMES};
-pub use prep::{prepare, relax, Prep, Verdict};
+pub use prep::{prepare, prepare_with, relax, Prep, Verdict};
 pub use protocol::{Protocol, StageSteps};
 pub use trajectory::{run_trajectory, Config, Seeds, TrajectoryResult, SOLVER_VERSION};

@@ -68,18 +68,20 @@ pub fn initial_circle(lat: &Lattice, params: &Params) -> Vec<f64> {
     phi
 }
 
-/// Stage 1: relax the initial circle for `steps` steps, P = 0, no motility force, no noise.
+/// Stage 1: relax the initial circle for `steps` steps, P = 0, no motility force, no noise
+/// (on two threads with `parallel`: the same result).
 pub fn relax(
     params: &Params,
     lat: &Lattice,
     fibers: &Fibers,
     steps: u64,
     monitor: &mut dyn Monitor,
+    parallel: bool,
 ) -> Cell {
     let mut cell = Cell::new(lat, fibers, initial_circle(lat, params), lat.zeros());
     monitor.stage(Stage::Relax, steps);
     for s in 0..steps {
-        cell.step(lat, fibers, params, [0.0, 0.0], false);
+        cell.step(lat, fibers, params, [0.0, 0.0], false, parallel);
         if (s + 1) % 500 == 0 {
             monitor.advance(s + 1);
         }
@@ -136,12 +138,23 @@ pub fn prepare(
     seed: u64,
     monitor: &mut dyn Monitor,
 ) -> Result<Prep, SolverError> {
+    prepare_with(params, protocol, seed, monitor, false)
+}
+
+/// [`prepare`], on two threads with `parallel` (the same result, bit for bit).
+pub fn prepare_with(
+    params: &Params,
+    protocol: &Protocol,
+    seed: u64,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+) -> Result<Prep, SolverError> {
     let steps = protocol.validate(params)?;
     let [nx, ny] = protocol.single_lattice;
     let lat = Lattice::new(nx, ny);
     let fibers = Fibers::new(params, ny);
 
-    let mut cell = relax(params, &lat, &fibers, steps.relax, monitor);
+    let mut cell = relax(params, &lat, &fibers, steps.relax, monitor, parallel);
     let relaxed = FieldSummary::of(&lat, &fibers, &cell.phi, steps.relax);
     kick(&lat, &mut cell);
 
@@ -154,7 +167,7 @@ pub fn prepare(
     let mut done = 0;
     for s in 0..steps.free {
         let nz = noise.at(s)[0];
-        cell.step(&lat, &fibers, params, nz, true);
+        cell.step(&lat, &fibers, params, nz, true, parallel);
         let n = s + 1;
         done = n;
         let t = n as f64 * params.dt;

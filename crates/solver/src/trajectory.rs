@@ -8,7 +8,7 @@ use crate::error::SolverError;
 use crate::monitor::Monitor;
 use crate::observables::Attachment;
 use crate::params::Params;
-use crate::prep::{prepare, Prep, Verdict};
+use crate::prep::{prepare_with, Prep, Verdict};
 use crate::protocol::Protocol;
 
 /// Version of the numerics; stored with every result so that versions never mix silently.
@@ -81,7 +81,7 @@ impl TrajectoryResult {
 }
 
 /// Run one whole trajectory: prep with `seeds.prep`, and, if its verdict is `ok`, the collision
-/// with `seeds.collision`. Returns the prep and collision too, for callers that want the fields
+/// with `seeds.collision`; with `parallel` on two threads (the same result, bit for bit). Returns the prep and collision too, for callers that want the fields
 /// or the track.
 pub fn run_trajectory(
     config: &Config,
@@ -89,7 +89,13 @@ pub fn run_trajectory(
     monitor: &mut dyn Monitor,
     parallel: bool,
 ) -> Result<(TrajectoryResult, Prep, Option<Collision>), SolverError> {
-    let prep = prepare(&config.params, &config.protocol, seeds.prep, monitor)?;
+    let prep = prepare_with(
+        &config.params,
+        &config.protocol,
+        seeds.prep,
+        monitor,
+        parallel,
+    )?;
     let collision = if prep.verdict == Verdict::Ok {
         Some(collide(
             &config.params,

@@ -148,7 +148,7 @@ fn fused_step_matches_the_spec_term_by_term() {
             let sums = Sums::of(&lat, &fibers, &phi);
             let k = StepCoeffs::new(&params, &sums, noise, motile);
             let (mut p, mut out) = (pol.clone(), lat.zeros());
-            let got = step_cell(&lat, &fibers, &k, &phi, &mut p, other, &mut out);
+            let got = step_cell(&lat, &fibers, &k, &phi, &mut p, other, &mut out, false);
             close(&out, &want_phi, 1e-12);
             close(&p, &want_p, 1e-12);
             // The returned sums are those of the new phi.
@@ -156,6 +156,16 @@ fn fused_step_matches_the_spec_term_by_term() {
             assert_eq!(got, fresh);
             let s_ref: f64 = want_phi.iter().map(|v| v * v).sum();
             assert!((got.area - s_ref).abs() < 1e-9 * s_ref);
+
+            // Two threads give the same bits.
+            let (mut p3, mut out3) = (pol.clone(), lat.zeros());
+            let got3 = step_cell(&lat, &fibers, &k, &phi, &mut p3, other, &mut out3, true);
+            assert_eq!(got, got3);
+            assert!(out
+                .iter()
+                .zip(&out3)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(p.iter().zip(&p3).all(|(a, b)| a.to_bits() == b.to_bits()));
 
             // The dispatched (SIMD) path is bit-identical to the portable one.
             let (mut p2, mut out2) = (pol.clone(), lat.zeros());

@@ -35,7 +35,7 @@ impl Monitor for StageBars {
         let bar = ProgressBar::new(total_steps);
         bar.set_style(
             ProgressStyle::with_template(
-                "{msg:>8} [{bar:40}] {pos}/{len} steps ({per_sec}, ETA {eta})",
+                "{msg:>8} [{bar:40}] {human_pos}/{human_len} steps, {elapsed} elapsed, ETA {eta}",
             )
             .expect("valid template")
             .progress_chars("=> "),

@@ -151,6 +151,11 @@ fn a_sweep_submitted_through_sbatch_is_collected_exactly_once() {
     assert_each_job_counted_once(&dir.join("r.sqlite"));
     let st = cellsweep(&dir, &["status", "--db", "r.sqlite"]);
     assert!(String::from_utf8_lossy(&st.stdout).contains("slurm    arrays"));
+    let js: serde_json::Value =
+        serde_json::from_slice(&cellsweep(&dir, &["status", "--db", "r.sqlite", "--json"]).stdout)
+            .unwrap();
+    assert_eq!(js[0]["slurm"]["arrays"].as_array().unwrap().len(), 2);
+    assert_eq!(js[0]["slurm"]["arrays"][1]["kind"], "collide");
 
     // A torn last record (a task killed mid-write) is reported with its path and skipped.
     let results = std::fs::read_dir(dir.join("cellsweep-runs/slurm-e2e"))

@@ -29,7 +29,23 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let store = Store::open(&args.db.db)?;
     let all = store.status()?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&all)?);
+        let mut rows = Vec::new();
+        for s in &all {
+            let mut v = serde_json::to_value(s)?;
+            let arrays = match store.sweep_id(&s.sweep) {
+                Ok(id) => store.arrays_of(id, &s.solver_version)?,
+                Err(_) => Vec::new(),
+            };
+            if !arrays.is_empty() {
+                let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
+                v["slurm"] = serde_json::json!({
+                    "arrays": arrays,
+                    "queue": cellsweep_scheduler::slurm::queue_states(&ids),
+                });
+            }
+            rows.push(v);
+        }
+        println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
     if all.is_empty() {

@@ -12,7 +12,7 @@
 //! RUN_DIR/sub-<n>/{prep,collide}.sbatch, logs/
 //! ```
 
-use std::io::{BufRead, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -562,11 +562,4 @@ pub fn queue_states(job_ids: &[String]) -> Option<Vec<(String, usize)>> {
         }
     }
     Some(counts)
-}
-
-/// Whether any line of a task file is unreadable (for tests and `--dry-run` checks).
-pub fn task_lines(path: &Path) -> std::io::Result<usize> {
-    Ok(std::io::BufReader::new(std::fs::File::open(path)?)
-        .lines()
-        .count())
 }

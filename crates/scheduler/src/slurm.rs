@@ -164,6 +164,10 @@ pub fn submit(
 ) -> Result<Submission, String> {
     let e = |x: cellsweep_store::StoreError| x.to_string();
     let preps_dir = opts.run_dir.join("preps");
+    if !opts.dry_run {
+        // Work left `running` by a local run that was killed is unfinished: submit it too.
+        store.recover_running(sweep_id, version).map_err(e)?;
+    }
     let preps = store.preps_of(sweep_id, version).map_err(e)?;
     let jobs = store.pending_jobs(sweep_id, version).map_err(e)?;
     // Preps decided earlier: a verdict that is not ok settles its jobs; ok preps are written

@@ -11,9 +11,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use std::time::Duration;
 
 use cellsweep_solver::{Config, Outcome, TrajectoryResult, Verdict};
-use cellsweep_store::{
-    JobState, JobTask, OutcomeCounts, PrepRecord, PrepTask, ResultRecord, Store,
-};
+use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, ResultRecord, Store};
 use serde_json::json;
 use tokio::sync::mpsc;
 
@@ -73,6 +71,11 @@ struct Worker {
     requests: mpsc::Sender<Request>,
     preps: HashSet<i64>,
     busy: Option<Busy>,
+}
+
+/// A malformed prep in transit or in the store.
+fn config_error(e: String) -> RunError {
+    RunError::Config(serde::de::Error::custom(e))
 }
 
 /// The record of a job decided by its prep's verdict (no collision run).
@@ -154,20 +157,8 @@ impl Run<'_> {
             return Ok(p.clone());
         }
         let seed = self.prep_seeds.get(&prep_id).copied().unwrap_or_default();
-        let rec = self.store.load_prep(prep_id)?;
-        let summary: serde_json::Value = serde_json::from_str(&rec.summary)?;
-        let prep = cellsweep_solver::Prep {
-            seed,
-            verdict: serde_json::from_value(json!(rec.verdict))?,
-            verdict_time: rec.verdict_time,
-            free_speed: rec.free_speed,
-            relaxed: serde_json::from_value(summary["relaxed"].clone())?,
-            prepped: serde_json::from_value(summary["prepped"].clone())?,
-            lattice: [rec.nx, rec.ny],
-            phi: rec.phi,
-            p: rec.p,
-        };
-        let payload = PrepPayload::from_prep(&prep);
+        let payload =
+            PrepPayload::from_record(self.store.load_prep(prep_id)?, seed).map_err(config_error)?;
         self.payloads.insert(prep_id, payload.clone());
         Ok(payload)
     }
@@ -243,22 +234,7 @@ impl Run<'_> {
     fn on_reply(&mut self, busy: Busy, response: Response) -> Result<(), RunError> {
         match (busy, response) {
             (Busy::Prep(task), Response::Prep { prep, wall_s, .. }) => {
-                let summary =
-                    json!({ "relaxed": prep.relaxed, "prepped": prep.prepped }).to_string();
-                let decoded = prep
-                    .to_prep()
-                    .map_err(|e| RunError::Config(serde::de::Error::custom(e)))?;
-                let rec = PrepRecord {
-                    verdict: prep.verdict.as_str().to_string(),
-                    verdict_time: prep.verdict_time,
-                    free_speed: prep.free_speed,
-                    nx: prep.lattice[0],
-                    ny: prep.lattice[1],
-                    phi: decoded.phi,
-                    p: decoded.p,
-                    summary,
-                    wall_s,
-                };
+                let rec = prep.to_record(wall_s).map_err(config_error)?;
                 self.store.commit_prep(task.id, &rec)?;
                 self.progress.preps_done += 1;
                 let (verdict, speed) = (prep.verdict.as_str(), prep.free_speed);

@@ -17,8 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use cellsweep_solver::{Config, Verdict};
-use cellsweep_store::{JobState, PrepRecord, SlurmArray, Store};
-use serde_json::json;
+use cellsweep_store::{JobState, SlurmArray, Store};
 
 use crate::coordinator::result_record;
 use crate::wire::{PrepPayload, Request, Response};
@@ -297,21 +296,7 @@ pub fn submit(
 }
 
 fn payload_from_store(store: &Store, prep_id: i64, seed: u64) -> Result<PrepPayload, String> {
-    let rec = store.load_prep(prep_id).map_err(|e| e.to_string())?;
-    let summary: serde_json::Value =
-        serde_json::from_str(&rec.summary).map_err(|e| e.to_string())?;
-    let prep = cellsweep_solver::Prep {
-        seed,
-        verdict: serde_json::from_value(json!(rec.verdict)).map_err(|e| e.to_string())?,
-        verdict_time: rec.verdict_time,
-        free_speed: rec.free_speed,
-        relaxed: serde_json::from_value(summary["relaxed"].clone()).map_err(|e| e.to_string())?,
-        prepped: serde_json::from_value(summary["prepped"].clone()).map_err(|e| e.to_string())?,
-        lattice: [rec.nx, rec.ny],
-        phi: rec.phi,
-        p: rec.p,
-    };
-    Ok(PrepPayload::from_prep(&prep))
+    PrepPayload::from_record(store.load_prep(prep_id).map_err(|e| e.to_string())?, seed)
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -479,23 +464,12 @@ pub fn collect(
                 continue;
             }
         };
-        let decoded = match payload.to_prep() {
-            Ok(d) => d,
+        let rec = match payload.to_record(0.0) {
+            Ok(r) => r,
             Err(x) => {
                 c.problems.push(format!("{}: {x}", path.display()));
                 continue;
             }
-        };
-        let rec = PrepRecord {
-            verdict: payload.verdict.as_str().to_string(),
-            verdict_time: payload.verdict_time,
-            free_speed: payload.free_speed,
-            nx: payload.lattice[0],
-            ny: payload.lattice[1],
-            phi: decoded.phi,
-            p: decoded.p,
-            summary: json!({ "relaxed": payload.relaxed, "prepped": payload.prepped }).to_string(),
-            wall_s: 0.0,
         };
         if store.collect_prep(p.id, &rec).map_err(e)? {
             c.preps += 1;

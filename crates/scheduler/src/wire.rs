@@ -4,7 +4,7 @@
 use base64::engine::general_purpose::STANDARD as B64;
 use base64::Engine;
 use cellsweep_solver::{Config, FieldSummary, Prep, TrajectoryResult, Verdict};
-use cellsweep_store::{bytes_to_f64s, f64s_to_bytes};
+use cellsweep_store::{bytes_to_f64s, f64s_to_bytes, PrepRecord};
 use serde::{Deserialize, Serialize};
 
 /// A prepped cell in transit.
@@ -34,6 +34,46 @@ impl PrepPayload {
             phi: B64.encode(f64s_to_bytes(&prep.phi)),
             p: B64.encode(f64s_to_bytes(&prep.p)),
         }
+    }
+
+    /// The stored form of this prep (computed in `wall_s` seconds).
+    pub fn to_record(&self, wall_s: f64) -> Result<PrepRecord, String> {
+        let prep = self.to_prep()?;
+        Ok(PrepRecord {
+            verdict: self.verdict.as_str().to_string(),
+            verdict_time: self.verdict_time,
+            free_speed: self.free_speed,
+            nx: self.lattice[0],
+            ny: self.lattice[1],
+            phi: prep.phi,
+            p: prep.p,
+            summary: serde_json::json!({ "relaxed": self.relaxed, "prepped": self.prepped })
+                .to_string(),
+            wall_s,
+        })
+    }
+
+    /// A prep as the store keeps it, back in transit form.
+    pub fn from_record(rec: PrepRecord, seed: u64) -> Result<Self, String> {
+        let summary: serde_json::Value =
+            serde_json::from_str(&rec.summary).map_err(|e| e.to_string())?;
+        let field = |k: &str| {
+            serde_json::from_value::<FieldSummary>(summary[k].clone())
+                .map_err(|e| format!("prep summary {k}: {e}"))
+        };
+        let prep = Prep {
+            seed,
+            verdict: serde_json::from_value(serde_json::json!(rec.verdict))
+                .map_err(|e| e.to_string())?,
+            verdict_time: rec.verdict_time,
+            free_speed: rec.free_speed,
+            relaxed: field("relaxed")?,
+            prepped: field("prepped")?,
+            lattice: [rec.nx, rec.ny],
+            phi: rec.phi,
+            p: rec.p,
+        };
+        Ok(PrepPayload::from_prep(&prep))
     }
 
     pub fn to_prep(&self) -> Result<Prep, String> {

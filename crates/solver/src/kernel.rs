@@ -307,20 +307,24 @@ enum Isa {
     Avx512,
 }
 
-/// The widest instruction set this CPU runs (`CELLSWEEP_NO_AVX512` caps it at AVX2).
+/// The widest instruction set this CPU runs (`CELLSWEEP_NO_AVX512` caps it at AVX2), decided
+/// once per process: the step is called hundreds of thousands of times per trajectory.
 fn isa() -> Isa {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::env::var_os("CELLSWEEP_NO_AVX512").is_none()
+    static ISA: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+    *ISA.get_or_init(|| {
+        #[cfg(target_arch = "x86_64")]
         {
-            return Isa::Avx512;
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::env::var_os("CELLSWEEP_NO_AVX512").is_none()
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Isa::Avx2;
+            }
         }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return Isa::Avx2;
-        }
-    }
-    Isa::Portable
+        Isa::Portable
+    })
 }
 
 /// The integrals from per-row contributions, summed in row order (the same bits however the

@@ -11,6 +11,20 @@ use crate::cli::SimulateArgs;
 use crate::frames::FrameRecorder;
 use crate::progress::StageBars;
 
+/// Run `f` on a worker of a two-thread pool when `parallel`, so that each step's `rayon::join`
+/// keeps one half on the calling worker and hands the other to a worker that is already awake
+/// (called from outside a pool, both halves would be sent to the pool and the caller would sleep).
+fn on_workers<T: Send>(parallel: bool, f: impl FnOnce() -> T + Send) -> anyhow::Result<T> {
+    if !parallel {
+        return Ok(f());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .context("cannot start the second thread")?;
+    Ok(pool.install(f))
+}
+
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let mut params = model::params(&args.model)?;
     params.beta = args.beta;
@@ -40,7 +54,9 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let (result, prep, collision) = match &args.frames {
         Some(dir) => {
             let mut rec = FrameRecorder::new(dir, args.frame_every)?;
-            let out = run_trajectory(&config, seeds, &mut rec, args.parallel)?;
+            let out = on_workers(args.parallel, || {
+                run_trajectory(&config, seeds, &mut rec, args.parallel)
+            })??;
             rec.finish()?;
             println!(
                 "wrote {} snapshots and an animation into {}",
@@ -51,7 +67,9 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         }
         None => {
             let mut bars = StageBars::new();
-            let out = run_trajectory(&config, seeds, &mut bars, args.parallel)?;
+            let out = on_workers(args.parallel, || {
+                run_trajectory(&config, seeds, &mut bars, args.parallel)
+            })??;
             bars.finish();
             out
         }

@@ -144,6 +144,10 @@ pub struct SimulateArgs {
     /// Run the collision to the end instead of stopping at the decided outcome.
     #[arg(long)]
     pub full: bool,
+    /// Per-cell windows in the collision: a column leaves a cell's window only while |phi| and
+    /// |P| are below this bound in all of it; 0 computes both cells on the whole lattice
+    #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
+    pub patch_bound: f64,
     /// A classifier setting, as NAME=VALUE (repeatable): contact_overlap, speed_fraction,
     /// min_speed, velocity_window, sustain_window, walk_past_margin.
     #[arg(long = "classifier", value_name = "NAME=VALUE")]
@@ -246,6 +250,10 @@ pub struct BenchArgs {
     /// Python interpreter for the yardstick.
     #[arg(long, default_value = "python3")]
     pub python: String,
+    /// Window bound of the trajectory's collision (as `simulate --patch-bound`); 0 runs it on
+    /// the whole lattice.
+    #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
+    pub patch_bound: f64,
 }
 
 #[derive(Debug, Args)]

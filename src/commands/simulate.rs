@@ -34,7 +34,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         Some(s) => model::parse_lattice(s)?,
         None => [2 * single[0], single[1]],
     };
-    let protocol = Protocol {
+    let mut protocol = Protocol {
         single_lattice: single,
         pair_lattice: pair,
         relax_time: args.relax_time,
@@ -43,6 +43,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         stop_early: !args.full,
         ..Protocol::default()
     };
+    protocol.patch.bound = args.patch_bound;
     protocol.validate(&params).context("invalid parameters")?;
     let config = Config {
         params,
@@ -110,6 +111,15 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
                 c.attachment[0], c.attachment[1]
             );
             println!("  collision steps   {}", c.steps);
+            if let Some(pt) = &c.patch {
+                println!(
+                    "  windows           {:.0}% of the lattice on average, widest {} columns, \
+                     {} edge hits",
+                    100.0 * pt.mean_fraction,
+                    pt.widest,
+                    pt.edge_hits
+                );
+            }
         }
         _ => println!("  no collision (the prep is not ok)"),
     }

@@ -16,6 +16,7 @@
 //! [protocol]                               # optional: lattices, stage durations (tau0)
 //! single_lattice = [200, 200]
 //! collide_time = 400
+//! patch_bound = 1e-8                       # per-cell windows in the collision; 0: whole lattice
 //! [classifier]                             # optional: classifier settings
 //! sustain_window = 25
 //! [run]                                    # optional: fault handling
@@ -268,6 +269,7 @@ impl Sweep {
                     "record_interval",
                     "check_interval",
                     "stop_early",
+                    "patch_bound",
                 ],
             )?;
             for (key, v) in t {
@@ -302,6 +304,7 @@ impl Sweep {
                             "free_time" => &mut protocol.free_time,
                             "collide_time" => &mut protocol.collide_time,
                             "record_interval" => &mut protocol.record_interval,
+                            "patch_bound" => &mut protocol.patch.bound,
                             _ => &mut protocol.check_interval,
                         } = x;
                     }

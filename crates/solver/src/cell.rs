@@ -1,7 +1,7 @@
 //! One cell's fields (phi, P) with the integrals the next step needs, and how cells advance.
 
 use crate::fibers::Fibers;
-use crate::kernel::{step_cell, StepCoeffs, Sums};
+use crate::kernel::{step_cell, step_cell_in, Span, StepCoeffs, Sums};
 use crate::lattice::Lattice;
 use crate::params::Params;
 
@@ -51,6 +51,21 @@ impl Cell {
         );
         std::mem::swap(&mut self.phi, &mut self.next);
     }
+
+    /// Set phi and P to exactly zero in the columns flagged in `cols` (in both phi buffers, so
+    /// they stay zero where the kernel no longer writes), and recompute the integrals.
+    pub(crate) fn zero_columns(&mut self, lat: &Lattice, fibers: &Fibers, cols: &[bool]) {
+        assert_eq!(cols.len(), lat.nx);
+        for j in 0..lat.ny {
+            let row = j * lat.nx..(j + 1) * lat.nx;
+            for (i, _) in cols.iter().enumerate().filter(|(_, &c)| c) {
+                self.phi[row.start + i] = 0.0;
+                self.p[row.start + i] = 0.0;
+                self.next[row.start + i] = 0.0;
+            }
+        }
+        self.sums = Sums::of(lat, fibers, &self.phi);
+    }
 }
 
 /// Advance two interacting cells by one step; both right-hand sides use the fields at time t.
@@ -69,13 +84,72 @@ pub fn step_pair(
     let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
-    let mut run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, false);
-    let mut run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, false);
-    let (sa, sb) = if parallel {
+    let run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, false);
+    let run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, false);
+    finish_pair(a_b_sums(run_a, run_b, parallel), a, b);
+}
+
+/// [`step_pair`] with each cell computed only in its columns `spans` (its window: see
+/// `crate::patch`); phi and P must be zero outside them.
+#[allow(clippy::too_many_arguments)]
+pub fn step_pair_in(
+    a: &mut Cell,
+    b: &mut Cell,
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+    noise: [[f64; 2]; 2],
+    spans: [&[Span]; 2],
+    parallel: bool,
+) {
+    let ka = StepCoeffs::new(params, &a.sums, noise[0], true);
+    let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
+    let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
+    let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
+    let [sp_a, sp_b] = spans;
+    let run_a = move || {
+        step_cell_in(
+            lat,
+            fibers,
+            &ka,
+            phi_a,
+            p_a,
+            Some(phi_b),
+            sp_a,
+            next_a,
+            false,
+        )
+    };
+    let run_b = move || {
+        step_cell_in(
+            lat,
+            fibers,
+            &kb,
+            phi_b,
+            p_b,
+            Some(phi_a),
+            sp_b,
+            next_b,
+            false,
+        )
+    };
+    finish_pair(a_b_sums(run_a, run_b, parallel), a, b);
+}
+
+/// Both cells' updates, on two threads with `parallel`.
+fn a_b_sums(
+    run_a: impl FnOnce() -> Sums + Send,
+    run_b: impl FnOnce() -> Sums + Send,
+    parallel: bool,
+) -> (Sums, Sums) {
+    if parallel {
         rayon::join(run_a, run_b)
     } else {
         (run_a(), run_b())
-    };
+    }
+}
+
+fn finish_pair((sa, sb): (Sums, Sums), a: &mut Cell, b: &mut Cell) {
     a.sums = sa;
     b.sums = sb;
     std::mem::swap(&mut a.phi, &mut a.next);

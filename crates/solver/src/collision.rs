@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::cell::{step_pair, Cell};
+use crate::cell::{step_pair, step_pair_in, Cell};
 use crate::classifier::{Classifier, ClassifierSettings, Decision, Outcome};
 use crate::error::SolverError;
 use crate::fibers::Fibers;
@@ -12,6 +12,7 @@ use crate::monitor::{Monitor, Stage};
 use crate::noise::Noise;
 use crate::observables::{overlap, Attachment};
 use crate::params::Params;
+use crate::patch::{PatchStats, Patches};
 use crate::prep::Prep;
 use crate::protocol::Protocol;
 
@@ -46,6 +47,8 @@ pub struct Collision {
     pub threshold_speed: f64,
     /// Steps run (fewer than the protocol's when stopped early).
     pub steps: u64,
+    /// What the per-cell windows did (`None` when they were off).
+    pub patch: Option<PatchStats>,
     pub track: Vec<Sample>,
 }
 
@@ -117,6 +120,7 @@ pub fn collide(
     let [(phi1, p1), (phi2, p2)] = place_pair(prep, nx);
     let mut a = Cell::new(&lat, &fibers, phi1, p1);
     let mut b = Cell::new(&lat, &fibers, phi2, p2);
+    let mut patches = Patches::new(&protocol.patch, &lat, &fibers, [&mut a, &mut b]);
 
     let mut classifier = Classifier::new(settings, prep.free_speed.unwrap_or(0.0), params.R0);
     let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
@@ -138,8 +142,23 @@ pub fn collide(
         }
         let nz = noise.at(s);
         let nz = [nz[0], nz[1]];
-        step_pair(&mut a, &mut b, &lat, &fibers, params, nz, parallel);
         let n = s + 1;
+        match &mut patches {
+            Some(pt) => {
+                step_pair_in(
+                    &mut a,
+                    &mut b,
+                    &lat,
+                    &fibers,
+                    params,
+                    nz,
+                    pt.spans(),
+                    parallel,
+                );
+                pt.after_step(n, &lat, &fibers, [&mut a, &mut b]);
+            }
+            None => step_pair(&mut a, &mut b, &lat, &fibers, params, nz, parallel),
+        }
         done = n;
         let t = n as f64 * params.dt;
         if !(a.sums.area.is_finite() && b.sums.area.is_finite()) {
@@ -178,6 +197,7 @@ pub fn collide(
         ],
         threshold_speed: classifier.threshold_speed(),
         steps: done,
+        patch: patches.map(|pt| pt.stats()),
         track,
     })
 }

@@ -211,10 +211,12 @@ fn lanes_sum(a: &[f64; LANES]) -> f64 {
     ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))
 }
 
-/// One row of the step: reads phi rows `c` (this row), `up` (j+1), `dn` (j-1), the other cell's
-/// row `pj` (ignored unless `PAIR`), updates `p` in place and writes phi(t+dt) into `out`.
+/// Columns `lo..hi` of one row of the step: reads phi rows `c` (this row), `up` (j+1), `dn`
+/// (j-1), the other cell's row `pj` (ignored unless `PAIR`), updates `p` in place and writes
+/// phi(t+dt) into `out`. Neighbours wrap round the row (periodic in x).
 #[inline(always)]
-fn step_row<const FIBER: bool, const PAIR: bool>(
+#[allow(clippy::too_many_arguments)]
+fn step_span<const FIBER: bool, const PAIR: bool>(
     k: &StepCoeffs,
     c: &[f64],
     up: &[f64],
@@ -222,34 +224,178 @@ fn step_row<const FIBER: bool, const PAIR: bool>(
     pj: &[f64],
     p: &mut [f64],
     out: &mut [f64],
+    lo: usize,
+    hi: usize,
 ) {
     let n = c.len();
+    debug_assert!(lo < hi && hi <= n && n >= 2);
     let (up, dn, pj, p, out) = (&up[..n], &dn[..n], &pj[..n], &mut p[..n], &mut out[..n]);
-    // Periodic edges in x.
-    let (a, b) = site::<FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
-    out[0] = a;
-    p[0] = b;
-    for i in 1..n - 1 {
-        let (a, b) = site::<FIBER, PAIR>(k, c[i], c[i + 1], c[i - 1], up[i], dn[i], p[i], pj[i]);
+    let mut first = lo;
+    if lo == 0 {
+        let (a, b) = site::<FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
+        out[0] = a;
+        p[0] = b;
+        first = 1;
+    }
+    let last = if hi == n { n - 1 } else { hi };
+    if first < last {
+        // The interior, where no neighbour wraps: one plain loop, which the compiler vectorises.
+        // (Attempts to replace its scalar remainder by gathered or overlapping vector blocks,
+        // or the seam columns by a wrapped copy of the row, all measured slower.)
+        let m = last - first;
+        let cw = &c[first - 1..last + 1];
+        let (up, dn, pj) = (&up[first..last], &dn[first..last], &pj[first..last]);
+        let (p, out) = (&mut p[first..last], &mut out[first..last]);
+        for i in 0..m {
+            // e = phi(i+1, j), w = phi(i-1, j), n = phi(i, j+1), s = phi(i, j-1)
+            let (a, b) =
+                site::<FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
+            out[i] = a;
+            p[i] = b;
+        }
+    }
+    if hi == n && first < n {
+        let (a, b) = site::<FIBER, PAIR>(
+            k,
+            c[n - 1],
+            c[0],
+            c[n - 2],
+            up[n - 1],
+            dn[n - 1],
+            p[n - 1],
+            pj[n - 1],
+        );
+        out[n - 1] = a;
+        p[n - 1] = b;
+    }
+}
+
+/// Columns at each end of a row that run as one vector block from a wrapped copy.
+const EDGE: usize = 8;
+
+/// [`step_span`] for columns `lo..hi`, with the seam columns (the first and last [`EDGE`] of the
+/// row, whose neighbours wrap round) computed as whole vector blocks from a wrapped copy of the
+/// row's ends instead of one scalar site each plus a scalar remainder.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn span_blocks<const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs,
+    c: &[f64],
+    up: &[f64],
+    dn: &[f64],
+    pj: &[f64],
+    p: &mut [f64],
+    out: &mut [f64],
+    lo: usize,
+    hi: usize,
+) {
+    let n = c.len();
+    if n % EDGE != 0 || n < 4 * EDGE || lo % EDGE != 0 || hi % EDGE != 0 {
+        return step_span::<FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi);
+    }
+    let (mut a, mut b) = (lo, hi);
+    if a == 0 {
+        // [phi(n-1), phi(0), ..., phi(EDGE)]
+        let mut cw = [0.0; EDGE + 2];
+        cw[0] = c[n - 1];
+        cw[1..].copy_from_slice(&c[..=EDGE]);
+        flat::<FIBER, PAIR>(
+            k,
+            &cw,
+            &up[..EDGE],
+            &dn[..EDGE],
+            &pj[..EDGE],
+            &mut p[..EDGE],
+            &mut out[..EDGE],
+        );
+        a = EDGE;
+    }
+    if b == n && a < b {
+        // [phi(n-EDGE-1), ..., phi(n-1), phi(0)]
+        let s = n - EDGE;
+        let mut cw = [0.0; EDGE + 2];
+        cw[..=EDGE].copy_from_slice(&c[s - 1..]);
+        cw[EDGE + 1] = c[0];
+        flat::<FIBER, PAIR>(
+            k,
+            &cw,
+            &up[s..],
+            &dn[s..],
+            &pj[s..],
+            &mut p[s..],
+            &mut out[s..],
+        );
+        b = s;
+    }
+    if a < b {
+        flat::<FIBER, PAIR>(
+            k,
+            &c[a - 1..b + 1],
+            &up[a..b],
+            &dn[a..b],
+            &pj[a..b],
+            &mut p[a..b],
+            &mut out[a..b],
+        );
+    }
+}
+
+/// The site update over equal-length slices, `cw` holding one extra column at each end.
+#[inline(always)]
+fn flat<const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs,
+    cw: &[f64],
+    up: &[f64],
+    dn: &[f64],
+    pj: &[f64],
+    p: &mut [f64],
+    out: &mut [f64],
+) {
+    let m = out.len();
+    let (cw, up, dn, pj, p) = (&cw[..m + 2], &up[..m], &dn[..m], &pj[..m], &mut p[..m]);
+    for i in 0..m {
+        let (a, b) = site::<FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
         out[i] = a;
         p[i] = b;
     }
-    let (a, b) = site::<FIBER, PAIR>(
-        k,
-        c[n - 1],
-        c[0],
-        c[n - 2],
-        up[n - 1],
-        dn[n - 1],
-        p[n - 1],
-        pj[n - 1],
-    );
-    out[n - 1] = a;
-    p[n - 1] = b;
 }
 
-/// Rows `first..first + p.len() / nx` of one cell's step (`p` and `out` hold just those rows);
-/// returns each row's (area, adhesive area) contributions, to be summed in row order.
+/// A run of columns `lo..hi` (`0 <= lo < hi <= nx`) that a cell's step computes in every row,
+/// and whether the other cell's phi may be non-zero there. Where it is exactly zero (outside the
+/// other cell's window) the pair terms vanish exactly and are skipped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Span {
+    pub lo: usize,
+    pub hi: usize,
+    pub pair: bool,
+}
+
+impl Span {
+    /// Every column of a row of `nx`.
+    pub fn full(nx: usize, pair: bool) -> Span {
+        Span {
+            lo: 0,
+            hi: nx,
+            pair,
+        }
+    }
+}
+
+/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, span by span.
+#[inline(always)]
+fn spans_sums<const FIBER: bool>(row: &[f64], spans: &[Span]) -> (f64, f64) {
+    match spans {
+        [one] => row_sums::<FIBER>(&row[one.lo..one.hi]),
+        _ => spans.iter().fold((0.0, 0.0), |(a, ad), sp| {
+            let (x, y) = row_sums::<FIBER>(&row[sp.lo..sp.hi]);
+            (a + x, ad + y)
+        }),
+    }
+}
+
+/// Rows `first..first + p.len() / nx` of one cell's step, columns `spans` (`p` and `out` hold
+/// just those rows); returns each row's (area, adhesive area) contributions, to be summed in row
+/// order.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn step_body(
@@ -261,6 +407,7 @@ fn step_body(
     first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
+    spans: &[Span],
     out: &mut [f64],
 ) -> Vec<(f64, f64)> {
     let rows = p.len() / nx;
@@ -275,16 +422,25 @@ fn step_body(
         let dn = &phi[row((j + ny - 1) % ny)];
         let pr = &mut p[row(r)];
         let o = &mut out[row(r)];
-        let fiber = fibers.of_row(j).filter(|_| fiber_on);
-        match (fiber.is_some(), other) {
-            (false, None) => step_row::<false, false>(k, c, up, dn, c, pr, o),
-            (true, None) => step_row::<true, false>(k, c, up, dn, c, pr, o),
-            (false, Some(q)) => step_row::<false, true>(k, c, up, dn, &q[rj], pr, o),
-            (true, Some(q)) => step_row::<true, true>(k, c, up, dn, &q[rj], pr, o),
+        let fiber = fibers.of_row(j).is_some() && fiber_on;
+        let pjr = match other {
+            Some(q) => &q[rj.clone()],
+            None => c,
+        };
+        for sp in spans {
+            let pair = sp.pair && other.is_some();
+            match (fiber, pair) {
+                (false, false) => {
+                    span_blocks::<false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                }
+                (true, false) => span_blocks::<true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
+                (false, true) => span_blocks::<false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
+                (true, true) => span_blocks::<true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
+            }
         }
         sums.push(match fibers.of_row(j) {
-            Some(_) => row_sums::<true>(o),
-            None => (row_sums::<false>(o).0, 0.0),
+            Some(_) => spans_sums::<true>(o, spans),
+            None => (spans_sums::<false>(o, spans).0, 0.0),
         });
     }
     sums
@@ -302,9 +458,10 @@ unsafe fn step_body_avx2(
     first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
+    spans: &[Span],
     out: &mut [f64],
 ) -> Vec<(f64, f64)> {
-    step_body(nx, ny, fibers, k, phi, first, p, other, out)
+    step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -319,9 +476,10 @@ unsafe fn step_body_avx512(
     first: usize,
     p: &mut [f64],
     other: Option<&[f64]>,
+    spans: &[Span],
     out: &mut [f64],
 ) -> Vec<(f64, f64)> {
-    step_body(nx, ny, fibers, k, phi, first, p, other, out)
+    step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
 
 /// The instruction sets the kernel is built for; every one gives the same bits.
@@ -379,6 +537,7 @@ fn step_with(
     phi: &[f64],
     p: &mut [f64],
     other: Option<&[f64]>,
+    spans: &[Span],
     out: &mut [f64],
     parallel: bool,
 ) -> Sums {
@@ -389,14 +548,17 @@ fn step_with(
         assert_eq!(q.len(), lat.len());
     }
     let (nx, ny) = (lat.nx, lat.ny);
+    assert!(nx >= 2 && spans.iter().all(|s| s.lo < s.hi && s.hi <= nx));
     let run = |first: usize, p: &mut [f64], out: &mut [f64]| match isa {
         // SAFETY: `isa()` checked that this CPU runs these instructions.
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => unsafe { step_body_avx512(nx, ny, fibers, k, phi, first, p, other, out) },
+        Isa::Avx512 => unsafe {
+            step_body_avx512(nx, ny, fibers, k, phi, first, p, other, spans, out)
+        },
         // SAFETY: as above.
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => unsafe { step_body_avx2(nx, ny, fibers, k, phi, first, p, other, out) },
-        Isa::Portable => step_body(nx, ny, fibers, k, phi, first, p, other, out),
+        Isa::Avx2 => unsafe { step_body_avx2(nx, ny, fibers, k, phi, first, p, other, spans, out) },
+        Isa::Portable => step_body(nx, ny, fibers, k, phi, first, p, other, spans, out),
     };
     if parallel && ny >= 4 {
         let h = ny / 2;
@@ -424,7 +586,53 @@ pub fn step_cell(
     out: &mut [f64],
     parallel: bool,
 ) -> Sums {
-    step_with(isa(), lat, fibers, k, phi, p, other, out, parallel)
+    let full = [Span::full(lat.nx, other.is_some())];
+    step_with(isa(), lat, fibers, k, phi, p, other, &full, out, parallel)
+}
+
+/// [`step_cell`] restricted to the columns `spans` of every row (a cell's window: see
+/// `crate::patch`). Columns outside are neither read as centres nor written: the caller keeps
+/// phi and P exactly zero there, in `phi`, `p` and `out` alike, and the sums cover the spans.
+#[allow(clippy::too_many_arguments)]
+pub fn step_cell_in(
+    lat: &Lattice,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    spans: &[Span],
+    out: &mut [f64],
+    parallel: bool,
+) -> Sums {
+    step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
+}
+
+/// The portable path of [`step_cell_in`], for tests that compare it with the dispatched one.
+#[doc(hidden)]
+#[allow(clippy::too_many_arguments)]
+pub fn step_cell_portable_in(
+    lat: &Lattice,
+    fibers: &Fibers,
+    k: &StepCoeffs,
+    phi: &[f64],
+    p: &mut [f64],
+    other: Option<&[f64]>,
+    spans: &[Span],
+    out: &mut [f64],
+) -> Sums {
+    step_with(
+        Isa::Portable,
+        lat,
+        fibers,
+        k,
+        phi,
+        p,
+        other,
+        spans,
+        out,
+        false,
+    )
 }
 
 /// The portable path of [`step_cell`], for tests that compare it with the dispatched one.
@@ -438,5 +646,17 @@ pub fn step_cell_portable(
     other: Option<&[f64]>,
     out: &mut [f64],
 ) -> Sums {
-    step_with(Isa::Portable, lat, fibers, k, phi, p, other, out, false)
+    let full = [Span::full(lat.nx, other.is_some())];
+    step_with(
+        Isa::Portable,
+        lat,
+        fibers,
+        k,
+        phi,
+        p,
+        other,
+        &full,
+        out,
+        false,
+    )
 }

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::ParamError;
 use crate::params::Params;
+use crate::patch::PatchSettings;
 
 /// Lattice sizes and stage durations (in tau0). Defaults are the paper's protocol.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,6 +26,9 @@ pub struct Protocol {
     pub check_interval: f64,
     /// Stop the collision as soon as the outcome is decided (the label is the same either way).
     pub stop_early: bool,
+    /// Per-cell windows in the collision (`crate::patch`); `bound = 0` computes every cell on the
+    /// whole lattice.
+    pub patch: PatchSettings,
 }
 
 impl Default for Protocol {
@@ -38,6 +42,7 @@ impl Default for Protocol {
             record_interval: 0.5,
             check_interval: 1.0,
             stop_early: true,
+            patch: PatchSettings::default(),
         }
     }
 }
@@ -109,6 +114,29 @@ impl Protocol {
                 name: "check_interval",
                 value: self.check_interval,
             });
+        }
+        let patch = &self.patch;
+        if !patch.bound.is_finite() || patch.bound < 0.0 {
+            return Err(ParamError::Negative {
+                name: "patch_bound",
+                value: patch.bound,
+            });
+        }
+        if patch.bound >= params.phi_min {
+            // P is cut to zero only below phi_min: a looser bound could drop a column of live P.
+            return Err(ParamError::OutOfRange {
+                name: "patch_bound",
+                value: patch.bound,
+                range: "[0, phi_min)",
+            });
+        }
+        for (name, v) in [
+            ("patch_check_every", patch.check_every),
+            ("patch_refit_every", patch.refit_every),
+        ] {
+            if v == 0 {
+                return Err(ParamError::NotPositive { name, value: 0.0 });
+            }
         }
         Ok(steps)
     }

@@ -56,6 +56,9 @@ pub struct TrajectoryResult {
     /// Fiber attachment of cell 1 and cell 2 after the collision.
     pub attachment: Option<[Attachment; 2]>,
     pub collision_steps: u64,
+    /// What the collision's per-cell windows did (`None` with windows off or no collision).
+    #[serde(default)]
+    pub patch: Option<crate::patch::PatchStats>,
 }
 
 impl TrajectoryResult {
@@ -76,6 +79,7 @@ impl TrajectoryResult {
             decision_time: c.and_then(|c| c.decision_time),
             attachment: c.map(|c| c.attachment),
             collision_steps: c.map_or(0, |c| c.steps),
+            patch: c.and_then(|c| c.patch),
         }
     }
 }

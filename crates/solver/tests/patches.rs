@@ -1,0 +1,305 @@
+//! Per-cell windows ("patches") against the whole lattice: the kernel on spans, the collision at
+//! the paper's lattice size (noise-free and seeded with noise), and the leak check.
+
+use cellsweep_solver::kernel::{step_cell, step_cell_in, step_cell_portable_in, Span, StepCoeffs};
+use cellsweep_solver::patch::{PatchSettings, Patches, Window};
+use cellsweep_solver::{
+    collide, prepare, Cell, ClassifierSettings, Collision, Fibers, Lattice, Params, Prep, Protocol,
+    Silent, Sums,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
+
+/// A blob centred at column `cx` with noise in the tails.
+fn blob(lat: &Lattice, cx: f64, rng: &mut ChaCha8Rng) -> (Vec<f64>, Vec<f64>) {
+    let (mut phi, mut p) = (lat.zeros(), lat.zeros());
+    for j in 0..lat.ny {
+        for i in 0..lat.nx {
+            let r = ((i as f64 - cx).powi(2) + (j as f64 - 12.0).powi(2)).sqrt();
+            phi[lat.idx(i, j)] =
+                (0.5 + 0.5 * ((7.0 - r) / 3.0).tanh()) * rng.random_range(0.9..1.1);
+            p[lat.idx(i, j)] = rng.random_range(-1.0..1.0);
+        }
+    }
+    (phi, p)
+}
+
+#[test]
+fn spans_compute_exactly_what_the_whole_row_computes() {
+    // 64 columns run the seam blocks, 62 the plain loop with scalar seam columns.
+    for nx in [64, 62] {
+        let lat = Lattice::new(nx, 24);
+        let params = Params {
+            L: 10,
+            R0: 8.0,
+            sigma: 5.0,
+            beta: 20.0,
+            ..Params::default()
+        };
+        let fibers = Fibers::new(&params, lat.ny);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (phi, pol) = blob(&lat, 20.0, &mut rng);
+        let (mut other, _) = blob(&lat, 34.0, &mut rng);
+        // The other cell's window is columns 16..40: it is exactly zero elsewhere.
+        for j in 0..lat.ny {
+            for i in (0..16).chain(40..nx) {
+                other[lat.idx(i, j)] = 0.0;
+            }
+        }
+        let sums = Sums::of(&lat, &fibers, &phi);
+        let k = StepCoeffs::new(&params, &sums, [0.07, -0.02], true);
+        let (mut p_full, mut out_full) = (pol.clone(), lat.zeros());
+        let s_full = step_cell(
+            &lat,
+            &fibers,
+            &k,
+            &phi,
+            &mut p_full,
+            Some(&other),
+            &mut out_full,
+            false,
+        );
+
+        // Every column, in pieces; the pair terms skipped where the other cell is zero.
+        let spans = [
+            Span {
+                lo: 0,
+                hi: 16,
+                pair: false,
+            },
+            Span {
+                lo: 16,
+                hi: 40,
+                pair: true,
+            },
+            Span {
+                lo: 40,
+                hi: nx,
+                pair: false,
+            },
+        ];
+        let (mut p_sp, mut out_sp) = (pol.clone(), lat.zeros());
+        let s_sp = step_cell_in(
+            &lat,
+            &fibers,
+            &k,
+            &phi,
+            &mut p_sp,
+            Some(&other),
+            &spans,
+            &mut out_sp,
+            false,
+        );
+        assert!(
+            out_sp.iter().zip(&out_full).all(|(a, b)| a == b),
+            "phi differs (nx = {nx})"
+        );
+        assert!(
+            p_sp.iter().zip(&p_full).all(|(a, b)| a == b),
+            "P differs (nx = {nx})"
+        );
+        // The integrals are summed span by span: the same up to the order of the additions.
+        assert!((s_sp.area - s_full.area).abs() <= 1e-14 * s_full.area);
+        for f in 0..2 {
+            assert!((s_sp.adhesive[f] - s_full.adhesive[f]).abs() <= 1e-13 * s_full.area);
+        }
+
+        // The portable path on spans gives the same bits as the dispatched one.
+        let (mut p_port, mut out_port) = (pol.clone(), lat.zeros());
+        let s_port = step_cell_portable_in(
+            &lat,
+            &fibers,
+            &k,
+            &phi,
+            &mut p_port,
+            Some(&other),
+            &spans,
+            &mut out_port,
+        );
+        assert_eq!(s_port, s_sp);
+        assert!(out_port
+            .iter()
+            .zip(&out_sp)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(p_port
+            .iter()
+            .zip(&p_sp)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+
+        // A window wrapping round the seam writes nothing outside itself.
+        let spans = [
+            Span {
+                lo: 0,
+                hi: 8,
+                pair: true,
+            },
+            Span {
+                lo: nx - 16,
+                hi: nx,
+                pair: true,
+            },
+        ];
+        let (mut p_w, mut out_w) = (pol.clone(), lat.zeros());
+        step_cell_in(
+            &lat,
+            &fibers,
+            &k,
+            &phi,
+            &mut p_w,
+            Some(&other),
+            &spans,
+            &mut out_w,
+            false,
+        );
+        for j in 0..lat.ny {
+            for i in 0..nx {
+                let s = lat.idx(i, j);
+                if i < 8 || i >= nx - 16 {
+                    assert_eq!(out_w[s], out_full[s]);
+                    assert_eq!(p_w[s], p_full[s]);
+                } else {
+                    assert_eq!(out_w[s], 0.0);
+                    assert_eq!(p_w[s].to_bits(), pol[s].to_bits());
+                }
+            }
+        }
+    }
+}
+
+/// The paper's lattices (200 x 200, pair 400 x 200) with a short free motion.
+fn protocol(collide_steps: u64) -> Protocol {
+    Protocol {
+        free_time: 10.0,
+        collide_time: collide_steps as f64 * 0.002,
+        stop_early: false,
+        ..Protocol::default()
+    }
+}
+
+fn run(params: &Params, prep: &Prep, patch: PatchSettings, steps: u64, seed: u64) -> Collision {
+    let mut protocol = protocol(steps);
+    protocol.patch = patch;
+    protocol.record_interval = 0.1;
+    collide(
+        params,
+        &protocol,
+        &ClassifierSettings::default(),
+        prep,
+        seed,
+        &mut Silent,
+        false,
+    )
+    .unwrap()
+}
+
+/// Largest difference between two tracks, each observable scaled by its natural size (the
+/// lattice for positions, pi R0^2 for areas and overlap).
+fn worst_difference(a: &Collision, b: &Collision, params: &Params) -> f64 {
+    assert_eq!(a.track.len(), b.track.len());
+    let a0 = PI * params.R0 * params.R0;
+    let mut worst: f64 = 0.0;
+    for (x, y) in a.track.iter().zip(&b.track) {
+        for c in 0..2 {
+            worst = worst.max((x.x[c] - y.x[c]).abs() / 400.0);
+            worst = worst.max((x.xbar[c] - y.xbar[c]).abs() / 400.0);
+            worst = worst.max((x.ybar[c] - y.ybar[c]).abs() / 200.0);
+            worst = worst.max((x.area[c] - y.area[c]).abs() / a0);
+            for f in 0..2 {
+                worst = worst.max((x.adhesive[c][f] - y.adhesive[c][f]).abs() / a0);
+            }
+        }
+        worst = worst.max((x.overlap - y.overlap).abs() / a0);
+    }
+    worst
+}
+
+#[test]
+fn windows_match_the_whole_lattice_to_1e9_noise_free_and_with_noise() {
+    let steps = 3000;
+    for (v0, seeds) in [(0.0, vec![1]), (0.1, vec![5, 6])] {
+        let params = Params {
+            beta: 14.0,
+            v0,
+            ..Params::default()
+        };
+        let prep = prepare(&params, &protocol(steps), 11, &mut Silent).unwrap();
+        for seed in seeds {
+            let full = run(&params, &prep, PatchSettings::off(), steps, seed);
+            let windows = run(&params, &prep, PatchSettings::default(), steps, seed);
+            let stats = windows.patch.expect("windows were on");
+            assert!(full.patch.is_none());
+            // The windows really are narrower than the lattice: the test compares two paths.
+            assert!(stats.mean_fraction < 0.9, "windows cover {stats:?}");
+            let worst = worst_difference(&full, &windows, &params);
+            eprintln!("v0 = {v0}, seed {seed}: worst scaled difference {worst:e}, {stats:?}");
+            assert!(
+                worst < 1e-9,
+                "v0 = {v0}, seed {seed}: differs by {worst:e} ({stats:?})"
+            );
+            assert_eq!(full.outcome, windows.outcome);
+            assert_eq!(full.contact_time, windows.contact_time);
+        }
+    }
+}
+
+#[test]
+fn the_leak_check_grows_a_window_whose_edge_reaches_the_bound() {
+    let lat = Lattice::new(128, 32);
+    let params = Params {
+        L: 10,
+        R0: 8.0,
+        ..Params::default()
+    };
+    let fibers = Fibers::new(&params, lat.ny);
+    // Two cells as bumps exp(-|x - c| / 3), far apart; no values near the bound at first.
+    let field = |c: f64| {
+        let mut phi = lat.zeros();
+        for j in 0..lat.ny {
+            for i in 0..lat.nx {
+                let d = (i as f64 - c).abs();
+                phi[lat.idx(i, j)] = if d < 12.0 { (-d / 3.0).exp() } else { 0.0 };
+            }
+        }
+        phi
+    };
+    let mut a = Cell::new(&lat, &fibers, field(30.0), lat.zeros());
+    let mut b = Cell::new(&lat, &fibers, field(90.0), lat.zeros());
+    let settings = PatchSettings {
+        pad: 4,
+        ..PatchSettings::default()
+    };
+    let mut patches = Patches::new(&settings, &lat, &fibers, [&mut a, &mut b]).unwrap();
+    let [wa, wb] = patches.windows();
+    // Columns 19..=41 are above the bound; padded by 4 and aligned to 8: 8..48.
+    assert_eq!(wa, Window { start: 8, len: 40 });
+    assert_eq!(wb, Window { start: 72, len: 40 });
+    // Outside its window a cell is exactly zero.
+    for i in (0..8).chain(48..128) {
+        assert!((0..lat.ny).all(|j| a.phi[lat.idx(i, j)] == 0.0));
+    }
+
+    // Something reaches the bound on the window's last column (as a tail spreading between
+    // checks would): the next check sees it and grows the window past it.
+    a.phi[lat.idx(47, 5)] = 2.0 * settings.bound;
+    patches.after_step(settings.check_every - 1, &lat, &fibers, [&mut a, &mut b]);
+    assert_eq!(patches.windows()[0], wa, "no check between check intervals");
+    patches.after_step(settings.check_every, &lat, &fibers, [&mut a, &mut b]);
+    let grown = patches.windows()[0];
+    assert_eq!(patches.stats().edge_hits, 1);
+    assert!(grown.contains(47, lat.nx) && grown.contains(47 + settings.pad, lat.nx));
+    assert_eq!(
+        a.phi[lat.idx(47, 5)],
+        2.0 * settings.bound,
+        "nothing above the bound is cut"
+    );
+
+    // A refit shrinks a window only over columns that are below the bound everywhere, and
+    // leaves them exactly zero.
+    a.phi[lat.idx(47, 5)] = 0.0;
+    a.phi[lat.idx(52, 5)] = 0.5 * settings.bound;
+    assert!(grown.contains(52, lat.nx));
+    patches.after_step(settings.refit_every, &lat, &fibers, [&mut a, &mut b]);
+    assert_eq!(patches.windows()[0], wa);
+    assert_eq!(a.phi[lat.idx(52, 5)], 0.0);
+}

@@ -148,6 +148,10 @@ pub struct SimulateArgs {
     /// |P| are below this bound in all of it; 0 computes both cells on the whole lattice
     #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
     pub patch_bound: f64,
+    /// Float type of the collision stage: f64 (the reference) or f32 (faster; agrees with f64
+    /// in outcome statistics, not trajectory by trajectory)
+    #[arg(long, value_name = "f64|f32", default_value = "f64")]
+    pub precision: cellsweep_solver::Precision,
     /// A classifier setting, as NAME=VALUE (repeatable): contact_overlap, speed_fraction,
     /// min_speed, velocity_window, sustain_window, walk_past_margin.
     #[arg(long = "classifier", value_name = "NAME=VALUE")]
@@ -254,6 +258,9 @@ pub struct BenchArgs {
     /// the whole lattice.
     #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
     pub patch_bound: f64,
+    /// Float type of the trajectory's collision (as `simulate --precision`).
+    #[arg(long, value_name = "f64|f32", default_value = "f64")]
+    pub precision: cellsweep_solver::Precision,
 }
 
 #[derive(Debug, Args)]

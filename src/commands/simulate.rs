@@ -44,6 +44,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         ..Protocol::default()
     };
     protocol.patch.bound = args.patch_bound;
+    protocol.precision = args.precision;
     protocol.validate(&params).context("invalid parameters")?;
     let config = Config {
         params,
@@ -94,8 +95,14 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     }
     let p = &config.params;
     println!(
-        "alpha = {}, beta = {}, L = {}, sigma = {}, geometry = {}, seed = {}",
-        p.alpha, p.beta, p.L, p.sigma, p.geometry, args.seed
+        "alpha = {}, beta = {}, L = {}, sigma = {}, geometry = {}, seed = {}, collision in {}",
+        p.alpha,
+        p.beta,
+        p.L,
+        p.sigma,
+        p.geometry,
+        args.seed,
+        config.protocol.precision.as_str()
     );
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
     println!("  prep verdict      {}", result.verdict.as_str());

@@ -17,6 +17,7 @@
 //! single_lattice = [200, 200]
 //! collide_time = 400
 //! patch_bound = 1e-8                       # per-cell windows in the collision; 0: whole lattice
+//! precision = "f64"                        # collision float type: "f64" (default) or "f32"
 //! [classifier]                             # optional: classifier settings
 //! sustain_window = 25
 //! [run]                                    # optional: fault handling
@@ -270,6 +271,7 @@ impl Sweep {
                     "check_interval",
                     "stop_early",
                     "patch_bound",
+                    "precision",
                 ],
             )?;
             for (key, v) in t {
@@ -296,6 +298,13 @@ impl Sweep {
                         protocol.stop_early = v
                             .as_bool()
                             .ok_or_else(|| cx.err(&full, "must be true or false"))?
+                    }
+                    "precision" => {
+                        protocol.precision = v
+                            .as_str()
+                            .ok_or_else(|| cx.err(&full, "must be \"f64\" or \"f32\""))?
+                            .parse()
+                            .map_err(|e: String| cx.err(&full, &e))?
                     }
                     _ => {
                         let x = cx.num(v, &full)?;

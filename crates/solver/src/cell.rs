@@ -4,27 +4,35 @@ use crate::fibers::Fibers;
 use crate::kernel::{step_cell, step_cell_in, Span, StepCoeffs, Sums};
 use crate::lattice::Lattice;
 use crate::params::Params;
+use crate::real::Real;
 
-/// A cell on a lattice: phase field, polarity, and S / Ad of the current phi.
+/// A cell on a lattice: phase field, polarity, and S / Ad of the current phi, stored as `T`
+/// (f64 unless the collision runs in f32).
 #[derive(Debug, Clone)]
-pub struct Cell {
-    pub phi: Vec<f64>,
-    pub p: Vec<f64>,
+pub struct Cell<T: Real = f64> {
+    pub phi: Vec<T>,
+    pub p: Vec<T>,
     pub sums: Sums,
     /// Buffer for phi(t + dt).
-    next: Vec<f64>,
+    next: Vec<T>,
 }
 
-impl Cell {
-    pub fn new(lat: &Lattice, fibers: &Fibers, phi: Vec<f64>, p: Vec<f64>) -> Self {
+impl<T: Real> Cell<T> {
+    pub fn new(lat: &Lattice, fibers: &Fibers, phi: Vec<T>, p: Vec<T>) -> Self {
         assert_eq!(phi.len(), lat.len());
         assert_eq!(p.len(), lat.len());
         Cell {
             sums: Sums::of(lat, fibers, &phi),
-            next: lat.zeros(),
+            next: vec![T::default(); lat.len()],
             phi,
             p,
         }
+    }
+
+    /// The same cell in another precision (rounded to nearest when narrowing).
+    pub fn convert<U: Real>(&self, lat: &Lattice, fibers: &Fibers) -> Cell<U> {
+        let conv = |f: &[T]| f.iter().map(|v| U::of(v.to_f64())).collect::<Vec<U>>();
+        Cell::new(lat, fibers, conv(&self.phi), conv(&self.p))
     }
 
     /// Advance this cell alone by one step (single-cell stages); with `parallel` on two threads
@@ -38,7 +46,7 @@ impl Cell {
         motile: bool,
         parallel: bool,
     ) {
-        let k = StepCoeffs::new(params, &self.sums, noise, motile);
+        let k = StepCoeffs::<T>::new(params, &self.sums, noise, motile);
         self.sums = step_cell(
             lat,
             fibers,
@@ -59,9 +67,9 @@ impl Cell {
         for j in 0..lat.ny {
             let row = j * lat.nx..(j + 1) * lat.nx;
             for (i, _) in cols.iter().enumerate().filter(|(_, &c)| c) {
-                self.phi[row.start + i] = 0.0;
-                self.p[row.start + i] = 0.0;
-                self.next[row.start + i] = 0.0;
+                self.phi[row.start + i] = T::default();
+                self.p[row.start + i] = T::default();
+                self.next[row.start + i] = T::default();
             }
         }
         self.sums = Sums::of(lat, fibers, &self.phi);
@@ -71,17 +79,17 @@ impl Cell {
 /// Advance two interacting cells by one step; both right-hand sides use the fields at time t.
 /// With `parallel` the two cells are computed on two threads (same result: each cell's update
 /// is independent of the other's).
-pub fn step_pair(
-    a: &mut Cell,
-    b: &mut Cell,
+pub fn step_pair<T: Real>(
+    a: &mut Cell<T>,
+    b: &mut Cell<T>,
     lat: &Lattice,
     fibers: &Fibers,
     params: &Params,
     noise: [[f64; 2]; 2],
     parallel: bool,
 ) {
-    let ka = StepCoeffs::new(params, &a.sums, noise[0], true);
-    let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
+    let ka = StepCoeffs::<T>::new(params, &a.sums, noise[0], true);
+    let kb = StepCoeffs::<T>::new(params, &b.sums, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
     let run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, false);
@@ -92,9 +100,9 @@ pub fn step_pair(
 /// [`step_pair`] with each cell computed only in its columns `spans` (its window: see
 /// `crate::patch`); phi and P must be zero outside them.
 #[allow(clippy::too_many_arguments)]
-pub fn step_pair_in(
-    a: &mut Cell,
-    b: &mut Cell,
+pub fn step_pair_in<T: Real>(
+    a: &mut Cell<T>,
+    b: &mut Cell<T>,
     lat: &Lattice,
     fibers: &Fibers,
     params: &Params,
@@ -102,8 +110,8 @@ pub fn step_pair_in(
     spans: [&[Span]; 2],
     parallel: bool,
 ) {
-    let ka = StepCoeffs::new(params, &a.sums, noise[0], true);
-    let kb = StepCoeffs::new(params, &b.sums, noise[1], true);
+    let ka = StepCoeffs::<T>::new(params, &a.sums, noise[0], true);
+    let kb = StepCoeffs::<T>::new(params, &b.sums, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
     let [sp_a, sp_b] = spans;
@@ -149,7 +157,7 @@ fn a_b_sums(
     }
 }
 
-fn finish_pair((sa, sb): (Sums, Sums), a: &mut Cell, b: &mut Cell) {
+fn finish_pair<T: Real>((sa, sb): (Sums, Sums), a: &mut Cell<T>, b: &mut Cell<T>) {
     a.sums = sa;
     b.sums = sb;
     std::mem::swap(&mut a.phi, &mut a.next);

@@ -14,7 +14,8 @@ use crate::observables::{overlap, Attachment};
 use crate::params::Params;
 use crate::patch::{PatchStats, Patches};
 use crate::prep::Prep;
-use crate::protocol::Protocol;
+use crate::protocol::{Precision, Protocol, StageSteps};
+use crate::real::Real;
 
 /// Observables of both cells at one time (SPEC section 5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -83,7 +84,7 @@ pub fn place_pair(prep: &Prep, pair_nx: usize) -> [(Vec<f64>, Vec<f64>); 2] {
     [(phi1, p1), (phi2, p2)]
 }
 
-fn sample(lat: &Lattice, t: f64, a: &Cell, b: &Cell, x: [f64; 2]) -> Sample {
+fn sample<T: Real>(lat: &Lattice, t: f64, a: &Cell<T>, b: &Cell<T>, x: [f64; 2]) -> Sample {
     Sample {
         t,
         xbar: [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)],
@@ -118,75 +119,34 @@ pub fn collide(
     let lat = Lattice::new(nx, ny);
     let fibers = Fibers::new(params, ny);
     let [(phi1, p1), (phi2, p2)] = place_pair(prep, nx);
-    let mut a = Cell::new(&lat, &fibers, phi1, p1);
-    let mut b = Cell::new(&lat, &fibers, phi2, p2);
-    let mut patches = Patches::new(&protocol.patch, &lat, &fibers, [&mut a, &mut b]);
-
+    let a = Cell::new(&lat, &fibers, phi1, p1);
+    let b = Cell::new(&lat, &fibers, phi2, p2);
+    let run = Run {
+        params,
+        protocol,
+        steps,
+        lat: &lat,
+        fibers: &fibers,
+        parallel,
+    };
     let mut classifier = Classifier::new(settings, prep.free_speed.unwrap_or(0.0), params.R0);
-    let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
-    let mut xbar = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
-    let mut x = xbar;
-    let first = sample(&lat, 0.0, &a, &b, x);
-    let mut decision: Option<Decision> = classifier.observe(0.0, x[0], x[1], first.overlap);
-    let mut at_decision: [Sums; 2] = [a.sums, b.sums];
-    let mut track = vec![first];
-
-    monitor.stage(Stage::Collide, steps.collide);
-    if monitor.wants_fields(0.0) {
-        monitor.fields(0.0, &lat, &fibers, [&a, &b]);
-    }
-    let mut done = 0;
-    for s in 0..steps.collide {
-        if decision.is_some() && protocol.stop_early {
-            break;
+    let ended = match protocol.precision {
+        Precision::F64 => run.steps(a, b, &mut classifier, seed, monitor)?,
+        Precision::F32 => {
+            let (a, b) = (
+                a.convert::<f32>(&lat, &fibers),
+                b.convert::<f32>(&lat, &fibers),
+            );
+            run.steps(a, b, &mut classifier, seed, monitor)?
         }
-        let nz = noise.at(s);
-        let nz = [nz[0], nz[1]];
-        let n = s + 1;
-        match &mut patches {
-            Some(pt) => {
-                step_pair_in(
-                    &mut a,
-                    &mut b,
-                    &lat,
-                    &fibers,
-                    params,
-                    nz,
-                    pt.spans(),
-                    parallel,
-                );
-                pt.after_step(n, &lat, &fibers, [&mut a, &mut b]);
-            }
-            None => step_pair(&mut a, &mut b, &lat, &fibers, params, nz, parallel),
-        }
-        done = n;
-        let t = n as f64 * params.dt;
-        if !(a.sums.area.is_finite() && b.sums.area.is_finite()) {
-            return Err(SolverError::Diverged { time: t });
-        }
-        if n % steps.record_every == 0 || n == steps.collide {
-            let now = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
-            for c in 0..2 {
-                x[c] += lat.wrap_dx(xbar[c], now[c]);
-            }
-            xbar = now;
-            let smp = sample(&lat, t, &a, &b, x);
-            if decision.is_none() {
-                decision = classifier.observe(t, x[0], x[1], smp.overlap);
-                if decision.is_some() {
-                    at_decision = [a.sums, b.sums];
-                }
-            }
-            track.push(smp);
-            monitor.advance(n);
-            if monitor.wants_fields(t) {
-                monitor.fields(t, &lat, &fibers, [&a, &b]);
-            }
-        }
-    }
-    if decision.is_none() {
-        at_decision = [a.sums, b.sums];
-    }
+    };
+    let Ended {
+        decision,
+        at_decision,
+        done,
+        patch,
+        track,
+    } = ended;
     Ok(Collision {
         outcome: decision.map_or(Outcome::Undetermined, |d| d.outcome),
         decision_time: decision.map(|d| d.time),
@@ -197,7 +157,125 @@ pub fn collide(
         ],
         threshold_speed: classifier.threshold_speed(),
         steps: done,
-        patch: patches.map(|pt| pt.stats()),
+        patch,
         track,
     })
+}
+
+/// What a collision's stepping loop leaves behind.
+struct Ended {
+    decision: Option<Decision>,
+    /// Integrals of both cells at the decision (or at the end).
+    at_decision: [Sums; 2],
+    done: u64,
+    patch: Option<crate::patch::PatchStats>,
+    track: Vec<Sample>,
+}
+
+/// The fixed inputs of a collision's stepping loop.
+struct Run<'a> {
+    params: &'a Params,
+    protocol: &'a Protocol,
+    steps: StageSteps,
+    lat: &'a Lattice,
+    fibers: &'a Fibers,
+    parallel: bool,
+}
+
+impl Run<'_> {
+    /// Step both cells (stored as `T`) to the decided outcome or the end of the stage.
+    fn steps<T: Real>(
+        &self,
+        mut a: Cell<T>,
+        mut b: Cell<T>,
+        classifier: &mut Classifier,
+        seed: u64,
+        monitor: &mut dyn Monitor,
+    ) -> Result<Ended, SolverError> {
+        let Run {
+            params,
+            protocol,
+            steps,
+            lat,
+            fibers,
+            parallel,
+        } = *self;
+        // The monitor sees f64 cells (converted only when it asks, in f32 runs).
+        let show = |monitor: &mut dyn Monitor, t: f64, a: &Cell<T>, b: &Cell<T>| {
+            let (a64, b64) = (a.convert::<f64>(lat, fibers), b.convert::<f64>(lat, fibers));
+            monitor.fields(t, lat, fibers, [&a64, &b64]);
+        };
+        let mut patches = Patches::new(&protocol.patch, lat, fibers, [&mut a, &mut b]);
+        let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
+        let mut xbar = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
+        let mut x = xbar;
+        let first = sample(lat, 0.0, &a, &b, x);
+        let mut decision: Option<Decision> = classifier.observe(0.0, x[0], x[1], first.overlap);
+        let mut at_decision: [Sums; 2] = [a.sums, b.sums];
+        let mut track = vec![first];
+
+        monitor.stage(Stage::Collide, steps.collide);
+        if monitor.wants_fields(0.0) {
+            show(monitor, 0.0, &a, &b);
+        }
+        let mut done = 0;
+        for s in 0..steps.collide {
+            if decision.is_some() && protocol.stop_early {
+                break;
+            }
+            let nz = noise.at(s);
+            let nz = [nz[0], nz[1]];
+            let n = s + 1;
+            match &mut patches {
+                Some(pt) => {
+                    step_pair_in(
+                        &mut a,
+                        &mut b,
+                        lat,
+                        fibers,
+                        params,
+                        nz,
+                        pt.spans(),
+                        parallel,
+                    );
+                    pt.after_step(n, lat, fibers, [&mut a, &mut b]);
+                }
+                None => step_pair(&mut a, &mut b, lat, fibers, params, nz, parallel),
+            }
+            done = n;
+            let t = n as f64 * params.dt;
+            if !(a.sums.area.is_finite() && b.sums.area.is_finite()) {
+                return Err(SolverError::Diverged { time: t });
+            }
+            if n % steps.record_every == 0 || n == steps.collide {
+                let now = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
+                for c in 0..2 {
+                    x[c] += lat.wrap_dx(xbar[c], now[c]);
+                }
+                xbar = now;
+                let smp = sample(lat, t, &a, &b, x);
+                if decision.is_none() {
+                    decision = classifier.observe(t, x[0], x[1], smp.overlap);
+                    if decision.is_some() {
+                        at_decision = [a.sums, b.sums];
+                    }
+                }
+                track.push(smp);
+                monitor.advance(n);
+                if monitor.wants_fields(t) {
+                    show(monitor, t, &a, &b);
+                }
+            }
+        }
+        if decision.is_none() {
+            at_decision = [a.sums, b.sums];
+        }
+        Ok(Ended {
+            decision,
+            at_decision,
+            done,
+            patch: patches.map(|pt| pt.stats()),
+            track,
+        })
+    }
 }

@@ -15,6 +15,7 @@
 use crate::fibers::Fibers;
 use crate::lattice::Lattice;
 use crate::params::Params;
+use crate::real::Real;
 use std::f64::consts::PI;
 
 /// Integrals of one cell's phi that the next step needs: S = sum phi^2 and, per fiber,
@@ -33,16 +34,16 @@ impl Sums {
     }
 
     /// The sums of a field, accumulated in the same order as the kernel does.
-    pub fn of(lat: &Lattice, fibers: &Fibers, phi: &[f64]) -> Sums {
+    pub fn of<T: Real>(lat: &Lattice, fibers: &Fibers, phi: &[T]) -> Sums {
         let mut sums = Sums::default();
         for (j, row) in phi.chunks_exact(lat.nx).enumerate() {
             match fibers.of_row(j) {
                 Some(f) => {
-                    let (a, ad) = row_sums::<true>(row);
+                    let (a, ad) = row_sums::<T, true>(row);
                     sums.area += a;
                     sums.adhesive[f as usize] += ad;
                 }
-                None => sums.area += row_sums::<false>(row).0,
+                None => sums.area += row_sums::<T, false>(row).0,
             }
         }
         sums
@@ -52,56 +53,56 @@ impl Sums {
 /// Coefficients of one cell's step, constant over the lattice, folded so that the site update
 /// needs as few operations as possible (see [`site`] for the equations they come from).
 #[derive(Debug, Clone, Copy)]
-pub struct StepCoeffs {
-    alpha: f64,
+pub struct StepCoeffs<T: Real = f64> {
+    alpha: T,
     /// alpha d^2 / 2
-    alpha_half_d2: f64,
+    alpha_half_d2: T,
     /// 4 lambda / (pi R0^2) (1 - S / (pi R0^2)): the area term is -area * phi.
-    area: f64,
+    area: T,
     /// -6 E0 A_ref / (A_ref + Ad)^2: the fiber term is +neg_fiber * phi (1 - phi) chi.
-    neg_fiber: f64,
-    two_g: f64,
-    two_sigma: f64,
+    neg_fiber: T,
+    two_g: T,
+    two_sigma: T,
     /// A / (2 eta), 0 without the motility force: |grad phi| = sqrt(h2) / 2, h2 below.
-    half_a_over_eta: f64,
+    half_a_over_eta: T,
     /// 1 / (4 eta): |grad phi|^2 / eta = h2 / (4 eta).
-    quarter_inv_eta: f64,
-    inv_gamma: f64,
+    quarter_inv_eta: T,
+    inv_gamma: T,
     /// -dt
-    neg_dt: f64,
+    neg_dt: T,
     /// -dt beta
-    neg_dt_beta: f64,
+    neg_dt_beta: T,
     /// 1 - dt / tau
-    decay: f64,
-    phi_min: f64,
+    decay: T,
+    phi_min: T,
     /// Half the uniform velocity noise (vx, vy) of this cell at this step: vnoise . grad phi =
     /// half_noise . (e - w, n - s).
-    half_noise: [f64; 2],
+    half_noise: [T; 2],
     /// Whether the motility force acts (not during relaxation).
     motile: bool,
 }
 
-impl StepCoeffs {
+impl<T: Real> StepCoeffs<T> {
     /// Coefficients for a cell with integrals `sums`, noise `noise`, and the motility force on
     /// or off.
     pub fn new(p: &Params, sums: &Sums, noise: [f64; 2], motile: bool) -> Self {
         let a0 = PI * p.R0 * p.R0;
         let ad = sums.adhesive_total();
         StepCoeffs {
-            alpha: p.alpha,
-            alpha_half_d2: p.alpha * (p.d * p.d / 2.0),
-            area: 4.0 * p.lambda / a0 * (1.0 - sums.area / a0),
-            neg_fiber: -(6.0 * p.E0 * p.A_ref / ((p.A_ref + ad) * (p.A_ref + ad))),
-            two_g: 2.0 * p.g,
-            two_sigma: 2.0 * p.sigma,
-            half_a_over_eta: if motile { 0.5 * p.A / p.eta } else { 0.0 },
-            quarter_inv_eta: 0.25 / p.eta,
-            inv_gamma: p.inv_gamma,
-            neg_dt: -p.dt,
-            neg_dt_beta: -(p.dt * p.beta),
-            decay: 1.0 - p.dt / p.tau,
-            phi_min: p.phi_min,
-            half_noise: [0.5 * noise[0], 0.5 * noise[1]],
+            alpha: T::of(p.alpha),
+            alpha_half_d2: T::of(p.alpha * (p.d * p.d / 2.0)),
+            area: T::of(4.0 * p.lambda / a0 * (1.0 - sums.area / a0)),
+            neg_fiber: T::of(-(6.0 * p.E0 * p.A_ref / ((p.A_ref + ad) * (p.A_ref + ad)))),
+            two_g: T::of(2.0 * p.g),
+            two_sigma: T::of(2.0 * p.sigma),
+            half_a_over_eta: T::of(if motile { 0.5 * p.A / p.eta } else { 0.0 }),
+            quarter_inv_eta: T::of(0.25 / p.eta),
+            inv_gamma: T::of(p.inv_gamma),
+            neg_dt: T::of(-p.dt),
+            neg_dt_beta: T::of(-(p.dt * p.beta)),
+            decay: T::of(1.0 - p.dt / p.tau),
+            phi_min: T::of(p.phi_min),
+            half_noise: [T::of(0.5 * noise[0]), T::of(0.5 * noise[1])],
             motile,
         }
     }
@@ -111,8 +112,8 @@ impl StepCoeffs {
 /// hardware FMA where the CPU has one, the correctly rounded libm `fma` otherwise), so all
 /// paths give the same bits.
 #[inline(always)]
-fn fma(a: f64, b: f64, c: f64) -> f64 {
-    a.mul_add(b, c)
+fn fma<T: Real>(a: T, b: T, c: T) -> T {
+    a.fma(b, c)
 }
 
 /// One site: returns (phi(t+dt), P(t+dt)), SPEC section 3.
@@ -121,35 +122,36 @@ fn fma(a: f64, b: f64, c: f64) -> f64 {
 /// cell's phi (pair stage only).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn site<const FIBER: bool, const PAIR: bool>(
-    k: &StepCoeffs,
-    c: f64,
-    e: f64,
-    w: f64,
-    n: f64,
-    s: f64,
-    p: f64,
-    pj: f64,
-) -> (f64, f64) {
+fn site<T: Real, const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs<T>,
+    c: T,
+    e: T,
+    w: T,
+    n: T,
+    s: T,
+    p: T,
+    pj: T,
+) -> (T, T) {
+    let one = T::of(1.0);
     // lap(phi) = e + w + n + s - 4 phi; grad(phi) = (ex, ey) / 2 with ex = e - w, ey = n - s.
-    let lap = fma(-4.0, c, (e + w) + (n + s));
+    let lap = fma(T::of(-4.0), c, (e + w) + (n + s));
     let ex = e - w;
     let ey = n - s;
     // h2 = 4 |grad phi|^2
     let h2 = fma(ex, ex, ey * ey);
     // poly = phi^3 - 1.5 phi^2 + 0.5 phi = phi (phi (phi - 1.5) + 0.5)
-    let poly = c * fma(c, c - 1.5, 0.5);
+    let poly = c * fma(c, c - T::of(1.5), T::of(0.5));
     // mu = alpha poly - alpha d^2/2 lap - 4 lambda phi/(pi R0^2) (1 - S/(pi R0^2)) ...
     let mut mu = fma(k.alpha, poly, -fma(k.alpha_half_d2, lap, k.area * c));
     // b = phi (1 - phi), used by the fiber adhesion and the motility force.
-    let b = if FIBER { c * (1.0 - c) } else { 0.0 };
+    let b = if FIBER { c * (one - c) } else { T::default() };
     if FIBER {
         // ... - 6 E0 A_ref phi (1 - phi) chi / (A_ref + Ad)^2 ...
         mu = fma(k.neg_fiber, b, mu);
     }
     if PAIR {
         // ... + 2 g phi phi_j^2 - 2 sigma poly phi_j^2 (1 - phi_j)^2.
-        let hj = pj * (1.0 - pj);
+        let hj = pj * (one - pj);
         mu = fma(
             k.two_g * c,
             pj * pj,
@@ -171,7 +173,7 @@ fn site<const FIBER: bool, const PAIR: bool>(
     let p_new = if c > k.phi_min {
         fma(k.neg_dt_beta * c, rate, p * k.decay)
     } else {
-        0.0
+        T::default()
     };
     (phi_new, p_new)
 }
@@ -182,33 +184,34 @@ const LANES: usize = 8;
 
 /// (sum phi^2, sum phi^2 (3 - 2 phi)) of one row; the second only if `FIBER`.
 #[inline(always)]
-fn row_sums<const FIBER: bool>(row: &[f64]) -> (f64, f64) {
-    let mut area = [0.0; LANES];
-    let mut adh = [0.0; LANES];
+fn row_sums<T: Real, const FIBER: bool>(row: &[T]) -> (f64, f64) {
+    let (zero, two, three) = (T::default(), T::of(2.0), T::of(3.0));
+    let mut area = [zero; LANES];
+    let mut adh = [zero; LANES];
     let chunks = row.chunks_exact(LANES);
     let rest = chunks.remainder();
     for chunk in chunks {
         for l in 0..LANES {
             let v = chunk[l];
             let v2 = v * v;
-            area[l] += v2;
+            area[l] = area[l] + v2;
             if FIBER {
-                adh[l] += v2 * (3.0 - 2.0 * v);
+                adh[l] = adh[l] + v2 * (three - two * v);
             }
         }
     }
     for (l, &v) in rest.iter().enumerate() {
-        area[l] += v * v;
+        area[l] = area[l] + v * v;
         if FIBER {
-            adh[l] += v * v * (3.0 - 2.0 * v);
+            adh[l] = adh[l] + v * v * (three - two * v);
         }
     }
     (lanes_sum(&area), lanes_sum(&adh))
 }
 
 #[inline(always)]
-fn lanes_sum(a: &[f64; LANES]) -> f64 {
-    ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))
+fn lanes_sum<T: Real>(a: &[T; LANES]) -> f64 {
+    (((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))).to_f64()
 }
 
 /// Columns `lo..hi` of one row of the step: reads phi rows `c` (this row), `up` (j+1), `dn`
@@ -216,14 +219,14 @@ fn lanes_sum(a: &[f64; LANES]) -> f64 {
 /// phi(t+dt) into `out`. Neighbours wrap round the row (periodic in x).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn step_span<const FIBER: bool, const PAIR: bool>(
-    k: &StepCoeffs,
-    c: &[f64],
-    up: &[f64],
-    dn: &[f64],
-    pj: &[f64],
-    p: &mut [f64],
-    out: &mut [f64],
+fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs<T>,
+    c: &[T],
+    up: &[T],
+    dn: &[T],
+    pj: &[T],
+    p: &mut [T],
+    out: &mut [T],
     lo: usize,
     hi: usize,
 ) {
@@ -232,7 +235,7 @@ fn step_span<const FIBER: bool, const PAIR: bool>(
     let (up, dn, pj, p, out) = (&up[..n], &dn[..n], &pj[..n], &mut p[..n], &mut out[..n]);
     let mut first = lo;
     if lo == 0 {
-        let (a, b) = site::<FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
+        let (a, b) = site::<T, FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
         out[0] = a;
         p[0] = b;
         first = 1;
@@ -249,13 +252,13 @@ fn step_span<const FIBER: bool, const PAIR: bool>(
         for i in 0..m {
             // e = phi(i+1, j), w = phi(i-1, j), n = phi(i, j+1), s = phi(i, j-1)
             let (a, b) =
-                site::<FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
+                site::<T, FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
             out[i] = a;
             p[i] = b;
         }
     }
     if hi == n && first < n {
-        let (a, b) = site::<FIBER, PAIR>(
+        let (a, b) = site::<T, FIBER, PAIR>(
             k,
             c[n - 1],
             c[0],
@@ -270,55 +273,60 @@ fn step_span<const FIBER: bool, const PAIR: bool>(
     }
 }
 
-/// Columns at each end of a row that run as one vector block from a wrapped copy.
-const EDGE: usize = 8;
+/// The most columns at each end of a row that run as one vector block from a wrapped copy.
+const MAX_EDGE: usize = 16;
 
-/// [`step_span`] for columns `lo..hi`, with the seam columns (the first and last [`EDGE`] of the
+/// [`step_span`] for columns `lo..hi`, with the seam columns (the first and last `T::LANES` of the
 /// row, whose neighbours wrap round) computed as whole vector blocks from a wrapped copy of the
 /// row's ends instead of one scalar site each plus a scalar remainder.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn span_blocks<const FIBER: bool, const PAIR: bool>(
-    k: &StepCoeffs,
-    c: &[f64],
-    up: &[f64],
-    dn: &[f64],
-    pj: &[f64],
-    p: &mut [f64],
-    out: &mut [f64],
+fn span_blocks<T: Real, const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs<T>,
+    c: &[T],
+    up: &[T],
+    dn: &[T],
+    pj: &[T],
+    p: &mut [T],
+    out: &mut [T],
     lo: usize,
     hi: usize,
 ) {
     let n = c.len();
-    if n % EDGE != 0 || n < 4 * EDGE || lo % EDGE != 0 || hi % EDGE != 0 {
-        return step_span::<FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi);
+    // One AVX-512 vector of T: 8 columns in f64, 16 in f32.
+    const { assert!(T::LANES <= MAX_EDGE) };
+    let edge = T::LANES;
+    if n % edge != 0 || n < 4 * edge || lo % edge != 0 || hi % edge != 0 {
+        return step_span::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi);
     }
     let (mut a, mut b) = (lo, hi);
     if a == 0 {
-        // [phi(n-1), phi(0), ..., phi(EDGE)]
-        let mut cw = [0.0; EDGE + 2];
+        // [phi(n-1), phi(0), ..., phi(edge)]
+        let mut buf = [T::default(); MAX_EDGE + 2];
+        let cw = &mut buf[..edge + 2];
         cw[0] = c[n - 1];
-        cw[1..].copy_from_slice(&c[..=EDGE]);
-        flat::<FIBER, PAIR>(
+        cw[1..].copy_from_slice(&c[..=edge]);
+        flat::<T, FIBER, PAIR>(
             k,
-            &cw,
-            &up[..EDGE],
-            &dn[..EDGE],
-            &pj[..EDGE],
-            &mut p[..EDGE],
-            &mut out[..EDGE],
+            cw,
+            &up[..edge],
+            &dn[..edge],
+            &pj[..edge],
+            &mut p[..edge],
+            &mut out[..edge],
         );
-        a = EDGE;
+        a = edge;
     }
     if b == n && a < b {
-        // [phi(n-EDGE-1), ..., phi(n-1), phi(0)]
-        let s = n - EDGE;
-        let mut cw = [0.0; EDGE + 2];
-        cw[..=EDGE].copy_from_slice(&c[s - 1..]);
-        cw[EDGE + 1] = c[0];
-        flat::<FIBER, PAIR>(
+        // [phi(n-edge-1), ..., phi(n-1), phi(0)]
+        let s = n - edge;
+        let mut buf = [T::default(); MAX_EDGE + 2];
+        let cw = &mut buf[..edge + 2];
+        cw[..=edge].copy_from_slice(&c[s - 1..]);
+        cw[edge + 1] = c[0];
+        flat::<T, FIBER, PAIR>(
             k,
-            &cw,
+            cw,
             &up[s..],
             &dn[s..],
             &pj[s..],
@@ -328,7 +336,7 @@ fn span_blocks<const FIBER: bool, const PAIR: bool>(
         b = s;
     }
     if a < b {
-        flat::<FIBER, PAIR>(
+        flat::<T, FIBER, PAIR>(
             k,
             &c[a - 1..b + 1],
             &up[a..b],
@@ -342,19 +350,20 @@ fn span_blocks<const FIBER: bool, const PAIR: bool>(
 
 /// The site update over equal-length slices, `cw` holding one extra column at each end.
 #[inline(always)]
-fn flat<const FIBER: bool, const PAIR: bool>(
-    k: &StepCoeffs,
-    cw: &[f64],
-    up: &[f64],
-    dn: &[f64],
-    pj: &[f64],
-    p: &mut [f64],
-    out: &mut [f64],
+fn flat<T: Real, const FIBER: bool, const PAIR: bool>(
+    k: &StepCoeffs<T>,
+    cw: &[T],
+    up: &[T],
+    dn: &[T],
+    pj: &[T],
+    p: &mut [T],
+    out: &mut [T],
 ) {
     let m = out.len();
     let (cw, up, dn, pj, p) = (&cw[..m + 2], &up[..m], &dn[..m], &pj[..m], &mut p[..m]);
     for i in 0..m {
-        let (a, b) = site::<FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
+        let (a, b) =
+            site::<T, FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
         out[i] = a;
         p[i] = b;
     }
@@ -383,11 +392,11 @@ impl Span {
 
 /// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, span by span.
 #[inline(always)]
-fn spans_sums<const FIBER: bool>(row: &[f64], spans: &[Span]) -> (f64, f64) {
+fn spans_sums<T: Real, const FIBER: bool>(row: &[T], spans: &[Span]) -> (f64, f64) {
     match spans {
-        [one] => row_sums::<FIBER>(&row[one.lo..one.hi]),
+        [one] => row_sums::<T, FIBER>(&row[one.lo..one.hi]),
         _ => spans.iter().fold((0.0, 0.0), |(a, ad), sp| {
-            let (x, y) = row_sums::<FIBER>(&row[sp.lo..sp.hi]);
+            let (x, y) = row_sums::<T, FIBER>(&row[sp.lo..sp.hi]);
             (a + x, ad + y)
         }),
     }
@@ -398,21 +407,21 @@ fn spans_sums<const FIBER: bool>(row: &[f64], spans: &[Span]) -> (f64, f64) {
 /// order.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn step_body(
+fn step_body<T: Real>(
     nx: usize,
     ny: usize,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
+    k: &StepCoeffs<T>,
+    phi: &[T],
     first: usize,
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
 ) -> Vec<(f64, f64)> {
     let rows = p.len() / nx;
     let mut sums = Vec::with_capacity(rows);
-    let fiber_on = k.motile || k.neg_fiber != 0.0;
+    let fiber_on = k.motile || k.neg_fiber != T::default();
     for r in 0..rows {
         let j = first + r;
         let row = |r: usize| r * nx..(r + 1) * nx;
@@ -431,16 +440,22 @@ fn step_body(
             let pair = sp.pair && other.is_some();
             match (fiber, pair) {
                 (false, false) => {
-                    span_blocks::<false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                    span_blocks::<T, false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
                 }
-                (true, false) => span_blocks::<true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
-                (false, true) => span_blocks::<false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
-                (true, true) => span_blocks::<true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
+                (true, false) => {
+                    span_blocks::<T, true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                }
+                (false, true) => {
+                    span_blocks::<T, false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                }
+                (true, true) => {
+                    span_blocks::<T, true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                }
             }
         }
         sums.push(match fibers.of_row(j) {
-            Some(_) => spans_sums::<true>(o, spans),
-            None => (spans_sums::<false>(o, spans).0, 0.0),
+            Some(_) => spans_sums::<T, true>(o, spans),
+            None => (spans_sums::<T, false>(o, spans).0, 0.0),
         });
     }
     sums
@@ -449,17 +464,17 @@ fn step_body(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn step_body_avx2(
+unsafe fn step_body_avx2<T: Real>(
     nx: usize,
     ny: usize,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
+    k: &StepCoeffs<T>,
+    phi: &[T],
     first: usize,
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
 ) -> Vec<(f64, f64)> {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
@@ -467,17 +482,17 @@ unsafe fn step_body_avx2(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn step_body_avx512(
+unsafe fn step_body_avx512<T: Real>(
     nx: usize,
     ny: usize,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
+    k: &StepCoeffs<T>,
+    phi: &[T],
     first: usize,
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
 ) -> Vec<(f64, f64)> {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
@@ -529,16 +544,16 @@ fn fold_rows(fibers: &Fibers, rows: impl IntoIterator<Item = (f64, f64)>) -> Sum
 }
 
 #[allow(clippy::too_many_arguments)]
-fn step_with(
+fn step_with<T: Real>(
     isa: Isa,
     lat: &Lattice,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    k: &StepCoeffs<T>,
+    phi: &[T],
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
     parallel: bool,
 ) -> Sums {
     assert_eq!(phi.len(), lat.len());
@@ -549,7 +564,7 @@ fn step_with(
     }
     let (nx, ny) = (lat.nx, lat.ny);
     assert!(nx >= 2 && spans.iter().all(|s| s.lo < s.hi && s.hi <= nx));
-    let run = |first: usize, p: &mut [f64], out: &mut [f64]| match isa {
+    let run = |first: usize, p: &mut [T], out: &mut [T]| match isa {
         // SAFETY: `isa()` checked that this CPU runs these instructions.
         #[cfg(target_arch = "x86_64")]
         Isa::Avx512 => unsafe {
@@ -576,14 +591,14 @@ fn step_with(
 /// place, writes phi(t+dt) into `out` and returns the sums of `out`. With `parallel`, the rows
 /// are split between two threads; the result is the same bits.
 #[allow(clippy::too_many_arguments)]
-pub fn step_cell(
+pub fn step_cell<T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
-    p: &mut [f64],
-    other: Option<&[f64]>,
-    out: &mut [f64],
+    k: &StepCoeffs<T>,
+    phi: &[T],
+    p: &mut [T],
+    other: Option<&[T]>,
+    out: &mut [T],
     parallel: bool,
 ) -> Sums {
     let full = [Span::full(lat.nx, other.is_some())];
@@ -594,15 +609,15 @@ pub fn step_cell(
 /// `crate::patch`). Columns outside are neither read as centres nor written: the caller keeps
 /// phi and P exactly zero there, in `phi`, `p` and `out` alike, and the sums cover the spans.
 #[allow(clippy::too_many_arguments)]
-pub fn step_cell_in(
+pub fn step_cell_in<T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    k: &StepCoeffs<T>,
+    phi: &[T],
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
     parallel: bool,
 ) -> Sums {
     step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
@@ -611,15 +626,15 @@ pub fn step_cell_in(
 /// The portable path of [`step_cell_in`], for tests that compare it with the dispatched one.
 #[doc(hidden)]
 #[allow(clippy::too_many_arguments)]
-pub fn step_cell_portable_in(
+pub fn step_cell_portable_in<T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
-    p: &mut [f64],
-    other: Option<&[f64]>,
+    k: &StepCoeffs<T>,
+    phi: &[T],
+    p: &mut [T],
+    other: Option<&[T]>,
     spans: &[Span],
-    out: &mut [f64],
+    out: &mut [T],
 ) -> Sums {
     step_with(
         Isa::Portable,
@@ -637,14 +652,14 @@ pub fn step_cell_portable_in(
 
 /// The portable path of [`step_cell`], for tests that compare it with the dispatched one.
 #[doc(hidden)]
-pub fn step_cell_portable(
+pub fn step_cell_portable<T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
-    k: &StepCoeffs,
-    phi: &[f64],
-    p: &mut [f64],
-    other: Option<&[f64]>,
-    out: &mut [f64],
+    k: &StepCoeffs<T>,
+    phi: &[T],
+    p: &mut [T],
+    other: Option<&[T]>,
+    out: &mut [T],
 ) -> Sums {
     let full = [Span::full(lat.nx, other.is_some())];
     step_with(

@@ -2,6 +2,8 @@
 
 use std::f64::consts::PI;
 
+use crate::real::Real;
+
 /// A periodic Nx x Ny lattice; site (i, j) sits at x = i, y = j and is stored at `j * nx + i`.
 #[derive(Debug, Clone)]
 pub struct Lattice {
@@ -46,10 +48,11 @@ impl Lattice {
 
     /// Centroid along x by the circular mean (Bai & Breen 2008), weights `phi`:
     /// xbar = Nx/(2 pi) (atan2(-sum phi sin theta, -sum phi cos theta) + pi).
-    pub fn centroid_x(&self, phi: &[f64]) -> f64 {
+    pub fn centroid_x<T: Real>(&self, phi: &[T]) -> f64 {
         let (mut s, mut c) = (0.0, 0.0);
         for row in phi.chunks_exact(self.nx) {
             for ((&v, &si), &ci) in row.iter().zip(&self.sin_x).zip(&self.cos_x) {
+                let v = v.to_f64();
                 s += v * si;
                 c += v * ci;
             }
@@ -58,10 +61,10 @@ impl Lattice {
     }
 
     /// Centroid along y: sum phi y / sum phi (not periodic: cells sit mid-height).
-    pub fn centroid_y(&self, phi: &[f64]) -> f64 {
+    pub fn centroid_y<T: Real>(&self, phi: &[T]) -> f64 {
         let (mut w, mut wy) = (0.0, 0.0);
         for (j, row) in phi.chunks_exact(self.nx).enumerate() {
-            let r: f64 = row.iter().sum();
+            let r: f64 = row.iter().map(|v| v.to_f64()).sum();
             w += r;
             wy += r * j as f64;
         }

@@ -31,6 +31,7 @@ pub mod params;
 pub mod patch;
 pub mod prep;
 pub mod protocol;
+pub mod real;
 pub mod seed;
 pub mod trajectory;
 
@@ -46,5 +47,6 @@ pub use observables::{Attachment, FieldSummary};
 pub use params::{Geometry, Params, PARAM_NAMES};
 pub use patch::{PatchSettings, PatchStats};
 pub use prep::{prepare, prepare_with, relax, Prep, Verdict};
-pub use protocol::{Protocol, StageSteps};
+pub use protocol::{Precision, Protocol, StageSteps};
+pub use real::Real;
 pub use trajectory::{run_trajectory, Config, Seeds, TrajectoryResult, SOLVER_VERSION};

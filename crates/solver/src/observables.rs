@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use crate::fibers::Fibers;
 use crate::kernel::Sums;
 use crate::lattice::Lattice;
+use crate::real::Real;
 
 /// Summary of one cell's field, as printed by `cellsweep relax --json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -64,8 +65,8 @@ pub fn all_finite(fields: &[&[f64]]) -> bool {
 }
 
 /// Overlap O = sum phi_1 phi_2.
-pub fn overlap(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+pub fn overlap<T: Real>(a: &[T], b: &[T]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x.to_f64() * y.to_f64()).sum()
 }
 
 /// Sizes of the 4-connected components (periodic in both directions) of the region phi > 0.5.

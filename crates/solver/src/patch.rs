@@ -25,6 +25,7 @@ use crate::cell::Cell;
 use crate::fibers::Fibers;
 use crate::kernel::Span;
 use crate::lattice::Lattice;
+use crate::real::Real;
 
 /// How the collision stage restricts each cell to a window. Stored with every result (as part of
 /// the protocol), since the bound decides how far the patch path may differ from the full one.
@@ -81,8 +82,9 @@ pub struct PatchStats {
     pub mean_fraction: f64,
 }
 
-/// Windows start and end on multiples of this many columns (when the lattice width allows).
-pub const ALIGN: usize = 8;
+/// Windows start and end on multiples of this many columns (when the lattice width allows):
+/// one AVX-512 vector of f32 (two of f64).
+pub const ALIGN: usize = 16;
 
 /// A periodic run of `len` columns starting at `start` (`len == nx`: every column).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -171,11 +173,11 @@ impl Patches {
     /// Windows fitted to the cells' current fields (which must be zero outside them afterwards:
     /// fitting zeroes what lies below the bound outside). `None` when the settings turn patches
     /// off.
-    pub fn new(
+    pub fn new<T: Real>(
         settings: &PatchSettings,
         lat: &Lattice,
         fibers: &Fibers,
-        cells: [&mut Cell; 2],
+        cells: [&mut Cell<T>; 2],
     ) -> Option<Patches> {
         if !settings.enabled() {
             return None;
@@ -214,7 +216,13 @@ impl Patches {
 
     /// Bookkeeping after step number `step` (1-based) of the collision: the leak check every
     /// `check_every` steps, a refit every `refit_every` steps or when the check finds a leak.
-    pub fn after_step(&mut self, step: u64, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell; 2]) {
+    pub fn after_step<T: Real>(
+        &mut self,
+        step: u64,
+        lat: &Lattice,
+        fibers: &Fibers,
+        cells: [&mut Cell<T>; 2],
+    ) {
         self.steps += 1;
         self.column_steps += (self.windows[0].len + self.windows[1].len) as u64;
         let mut refit = step % self.settings.refit_every == 0;
@@ -239,7 +247,7 @@ impl Patches {
     }
 
     /// Fit both windows to the fields, zero what leaves them, rebuild the spans.
-    fn refit(&mut self, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell; 2]) {
+    fn refit<T: Real>(&mut self, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell<T>; 2]) {
         let nx = self.nx;
         let bound = self.settings.bound;
         self.stats.refits += 1;
@@ -265,11 +273,11 @@ impl Patches {
 }
 
 /// max over the rows of |phi| and |P| in column `i`.
-fn column_max(lat: &Lattice, phi: &[f64], p: &[f64], i: usize) -> f64 {
+fn column_max<T: Real>(lat: &Lattice, phi: &[T], p: &[T], i: usize) -> f64 {
     (0..lat.ny)
         .map(|j| {
             let s = j * lat.nx + i;
-            phi[s].abs().max(p[s].abs())
+            phi[s].to_f64().abs().max(p[s].to_f64().abs())
         })
         .fold(0.0, f64::max)
 }
@@ -305,26 +313,29 @@ mod tests {
 
     #[test]
     fn fit_covers_the_hot_columns_with_padding() {
-        // Hot 10..16, padded to 8..18, aligned to 8..24.
-        let w = Window::fit(&hot(40, &[10, 11, 15]), 2);
-        assert_eq!(w, Window { start: 8, len: 16 });
-        for i in 8..24 {
-            assert!(w.contains(i, 40));
+        // Hot 20..26, padded to 18..28, aligned to 16..32.
+        let w = Window::fit(&hot(64, &[20, 21, 25]), 2);
+        assert_eq!(w, Window { start: 16, len: 16 });
+        for i in 16..32 {
+            assert!(w.contains(i, 64));
         }
-        assert!(!w.contains(7, 40) && !w.contains(24, 40));
-        // Unaligned widths keep the exact padding.
+        assert!(!w.contains(15, 64) && !w.contains(32, 64));
+        // Widths that are not whole blocks keep the exact padding.
         let w = Window::fit(&hot(42, &[10, 11, 15]), 2);
         assert_eq!(w, Window { start: 8, len: 10 });
     }
 
     #[test]
     fn fit_wraps_round_the_seam() {
-        // Hot 38..2, padded to 35..5, aligned to 32..8.
+        // Hot 62..2, padded to 59..5, aligned to 48..16.
+        let w = Window::fit(&hot(64, &[62, 63, 0, 1]), 3);
+        assert_eq!(w, Window { start: 48, len: 32 });
+        assert!(w.contains(63, 64) && w.contains(15, 64) && !w.contains(16, 64));
+        assert!(!w.contains(47, 64));
+        assert_eq!(w.edges(64), [48, 15]);
+        // Unaligned: exactly the padding.
         let w = Window::fit(&hot(40, &[38, 39, 0, 1]), 3);
-        assert_eq!(w, Window { start: 32, len: 16 });
-        assert!(w.contains(39, 40) && w.contains(7, 40) && !w.contains(8, 40));
-        assert!(!w.contains(31, 40));
-        assert_eq!(w.edges(40), [32, 7]);
+        assert_eq!(w, Window { start: 35, len: 10 });
     }
 
     #[test]

@@ -253,8 +253,10 @@ impl Patches {
         self.stats.refits += 1;
         for (k, cell) in cells.into_iter().enumerate() {
             let old = self.windows[k];
-            let hot: Vec<bool> = (0..nx)
-                .map(|i| old.contains(i, nx) && column_max(lat, &cell.phi, &cell.p, i) >= bound)
+            let hot: Vec<bool> = column_maxima(lat, &cell.phi, &cell.p)
+                .iter()
+                .enumerate()
+                .map(|(i, &m)| old.contains(i, nx) && m >= bound)
                 .collect();
             let new = Window::fit(&hot, self.settings.pad);
             let dropped: Vec<bool> = (0..nx)
@@ -270,6 +272,17 @@ impl Patches {
             self.spans[k] = spans_of(nx, self.windows[k], self.windows[1 - k]);
         }
     }
+}
+
+/// max over the rows of |phi| and |P|, for every column (one pass in memory order).
+fn column_maxima<T: Real>(lat: &Lattice, phi: &[T], p: &[T]) -> Vec<f64> {
+    let mut m = vec![0.0f64; lat.nx];
+    for (rphi, rp) in phi.chunks_exact(lat.nx).zip(p.chunks_exact(lat.nx)) {
+        for ((m, &a), &b) in m.iter_mut().zip(rphi).zip(rp) {
+            *m = m.max(a.to_f64().abs()).max(b.to_f64().abs());
+        }
+    }
+    m
 }
 
 /// max over the rows of |phi| and |P| in column `i`.

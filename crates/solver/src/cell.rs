@@ -77,8 +77,10 @@ impl<T: Real> Cell<T> {
 }
 
 /// Advance two interacting cells by one step; both right-hand sides use the fields at time t.
-/// With `parallel` the two cells are computed on two threads (same result: each cell's update
-/// is independent of the other's).
+/// With `parallel` each cell's rows are split between two threads, the same halves for both
+/// cells, so each thread reads the rows it wrote the step before (same result, bit for bit).
+/// Splitting by cell instead made every thread read the other cell's field from the other
+/// core's cache each step, and gained almost nothing.
 pub fn step_pair<T: Real>(
     a: &mut Cell<T>,
     b: &mut Cell<T>,
@@ -92,9 +94,9 @@ pub fn step_pair<T: Real>(
     let kb = StepCoeffs::<T>::new(params, &b.sums, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
-    let run_a = move || step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, false);
-    let run_b = move || step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, false);
-    finish_pair(a_b_sums(run_a, run_b, parallel), a, b);
+    let sa = step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, parallel);
+    let sb = step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, parallel);
+    finish_pair((sa, sb), a, b);
 }
 
 /// [`step_pair`] with each cell computed only in its columns `spans` (its window: see
@@ -115,46 +117,29 @@ pub fn step_pair_in<T: Real>(
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
     let [sp_a, sp_b] = spans;
-    let run_a = move || {
-        step_cell_in(
-            lat,
-            fibers,
-            &ka,
-            phi_a,
-            p_a,
-            Some(phi_b),
-            sp_a,
-            next_a,
-            false,
-        )
-    };
-    let run_b = move || {
-        step_cell_in(
-            lat,
-            fibers,
-            &kb,
-            phi_b,
-            p_b,
-            Some(phi_a),
-            sp_b,
-            next_b,
-            false,
-        )
-    };
-    finish_pair(a_b_sums(run_a, run_b, parallel), a, b);
-}
-
-/// Both cells' updates, on two threads with `parallel`.
-fn a_b_sums(
-    run_a: impl FnOnce() -> Sums + Send,
-    run_b: impl FnOnce() -> Sums + Send,
-    parallel: bool,
-) -> (Sums, Sums) {
-    if parallel {
-        rayon::join(run_a, run_b)
-    } else {
-        (run_a(), run_b())
-    }
+    let sa = step_cell_in(
+        lat,
+        fibers,
+        &ka,
+        phi_a,
+        p_a,
+        Some(phi_b),
+        sp_a,
+        next_a,
+        parallel,
+    );
+    let sb = step_cell_in(
+        lat,
+        fibers,
+        &kb,
+        phi_b,
+        p_b,
+        Some(phi_a),
+        sp_b,
+        next_b,
+        parallel,
+    );
+    finish_pair((sa, sb), a, b);
 }
 
 fn finish_pair<T: Real>((sa, sb): (Sums, Sums), a: &mut Cell<T>, b: &mut Cell<T>) {

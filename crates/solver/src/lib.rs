@@ -6,7 +6,7 @@
 //! cell (`ok`, `unstable`, `breakup`), then collide it with its mirror image and classify the
 //! outcome (`train`, `walk_past`, `reversal`, `undetermined`).
 //!
-//! Pure computation: no files, no threads beyond an optional `rayon::join` of the two cells, no
+//! Pure computation: no files, no threads beyond an optional `rayon::join` of each step's rows, no
 //! async. Progress goes to a [`Monitor`] the caller provides.
 //!
 //! ```no_run

@@ -55,7 +55,7 @@ impl Sums {
 }
 
 /// Coefficients of one cell's step, constant over the lattice, folded so that the site update
-/// needs as few operations as possible (see [`site`] for the equations they come from).
+/// needs as few operations as possible (see `site` for the equations they come from).
 #[derive(Debug, Clone, Copy)]
 pub struct StepCoeffs<T: Real = f64> {
     alpha: T,

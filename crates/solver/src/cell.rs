@@ -90,13 +90,8 @@ pub fn step_pair<T: Real>(
     noise: [[f64; 2]; 2],
     parallel: bool,
 ) {
-    let ka = StepCoeffs::<T>::new(params, &a.sums, noise[0], true);
-    let kb = StepCoeffs::<T>::new(params, &b.sums, noise[1], true);
-    let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
-    let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
-    let sa = step_cell(lat, fibers, &ka, phi_a, p_a, Some(phi_b), next_a, parallel);
-    let sb = step_cell(lat, fibers, &kb, phi_b, p_b, Some(phi_a), next_b, parallel);
-    finish_pair((sa, sb), a, b);
+    let full = [Span::full(lat.nx, true)];
+    step_pair_in(a, b, lat, fibers, params, noise, [&full, &full], parallel);
 }
 
 /// [`step_pair`] with each cell computed only in its columns `spans` (its window: see

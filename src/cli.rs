@@ -144,14 +144,8 @@ pub struct SimulateArgs {
     /// Run the collision to the end instead of stopping at the decided outcome.
     #[arg(long)]
     pub full: bool,
-    /// Per-cell windows in the collision: a column leaves a cell's window only while |phi| and
-    /// |P| are below this bound in all of it; 0 computes both cells on the whole lattice
-    #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
-    pub patch_bound: f64,
-    /// Float type of the collision stage: f64 (the reference) or f32 (faster; agrees with f64
-    /// in outcome statistics, not trajectory by trajectory)
-    #[arg(long, value_name = "f64|f32", default_value = "f64")]
-    pub precision: cellsweep_solver::Precision,
+    #[command(flatten)]
+    pub numerics: CollisionNumerics,
     /// A classifier setting, as NAME=VALUE (repeatable): contact_overlap, speed_fraction,
     /// min_speed, velocity_window, sustain_window, walk_past_margin.
     #[arg(long = "classifier", value_name = "NAME=VALUE")]
@@ -254,13 +248,29 @@ pub struct BenchArgs {
     /// Python interpreter for the yardstick.
     #[arg(long, default_value = "python3")]
     pub python: String,
-    /// Window bound of the trajectory's collision (as `simulate --patch-bound`); 0 runs it on
-    /// the whole lattice.
+    #[command(flatten)]
+    pub numerics: CollisionNumerics,
+}
+
+/// How the collision stage is computed (`simulate` and `bench`).
+#[derive(Debug, Args)]
+pub struct CollisionNumerics {
+    /// Per-cell windows in the collision: a column leaves a cell's window only while |phi| and
+    /// |P| are below this bound in all of it; 0 computes both cells on the whole lattice
     #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
     pub patch_bound: f64,
-    /// Float type of the trajectory's collision (as `simulate --precision`).
+    /// Float type of the collision stage: f64 (the reference) or f32 (faster; agrees with f64
+    /// in outcome statistics, not trajectory by trajectory)
     #[arg(long, value_name = "f64|f32", default_value = "f64")]
     pub precision: cellsweep_solver::Precision,
+}
+
+impl CollisionNumerics {
+    /// Set these options in `protocol`.
+    pub fn apply(&self, protocol: &mut cellsweep_solver::Protocol) {
+        protocol.patch.bound = self.patch_bound;
+        protocol.precision = self.precision;
+    }
 }
 
 #[derive(Debug, Args)]

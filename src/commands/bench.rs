@@ -6,7 +6,7 @@ use std::time::Instant;
 use cellsweep_solver::cell::step_pair;
 use cellsweep_solver::prep::{initial_circle, kick};
 use cellsweep_solver::{
-    run_trajectory, Cell, Config, Fibers, Lattice, Monitor, Params, Seeds, Stage,
+    run_trajectory, Cell, Config, Fibers, Lattice, Monitor, Params, Real, Seeds, Stage,
 };
 use serde_json::{json, Value};
 
@@ -100,6 +100,19 @@ fn best_rate(batch: u32, mut step: impl FnMut()) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Noise-free pair steps per second on the whole lattice, one thread, in `T`.
+fn pair_rate<T: Real>(
+    mut a: Cell<T>,
+    mut b: Cell<T>,
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+) -> f64 {
+    best_rate(200, || {
+        step_pair(&mut a, &mut b, lat, fibers, params, [[0.0; 2]; 2], false)
+    })
+}
+
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let params = Params {
         alpha: 0.1,
@@ -142,34 +155,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "area_2": b.sums.area,
         "sum_p_1": a.p.iter().sum::<f64>(),
     });
-    let pair = best_rate(200, || {
-        step_pair(
-            &mut a,
-            &mut b,
-            &plat,
-            &pfib,
-            &noise_free,
-            [[0.0; 2]; 2],
-            false,
-        )
-    });
-
-    // The same step in f32 (the opt-in precision of the collision stage).
-    let (mut a32, mut b32) = (
+    // The same start in f32 (the opt-in precision of the collision stage).
+    let (a32, b32) = (
         a.convert::<f32>(&plat, &pfib),
         b.convert::<f32>(&plat, &pfib),
     );
-    let pair_f32 = best_rate(200, || {
-        step_pair(
-            &mut a32,
-            &mut b32,
-            &plat,
-            &pfib,
-            &noise_free,
-            [[0.0; 2]; 2],
-            false,
-        )
-    });
+    let pair = pair_rate(a, b, &plat, &pfib, &noise_free);
+    let pair_f32 = pair_rate(a32, b32, &plat, &pfib, &noise_free);
 
     let mut report = json!({
         "single_steps_per_s": single,
@@ -209,8 +201,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             params: params.clone(),
             ..Config::default()
         };
-        config.protocol.patch.bound = args.patch_bound;
-        config.protocol.precision = args.precision;
+        args.numerics.apply(&mut config.protocol);
         let mut clock = StageClock::default();
         let t = Instant::now();
         let (result, _, _) = run_trajectory(&config, Seeds::from_run_seed(1), &mut clock, false)?;
@@ -227,8 +218,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             "outcome": result.outcome, "collision_steps": result.collision_steps,
             "relax_s": relax, "free_s": free, "collide_s": collide, "total_s": total,
             "collision_steps_per_s": collision_rate,
-            "patch_bound": args.patch_bound, "patch": result.patch,
-            "precision": args.precision.as_str(),
+            "patch_bound": args.numerics.patch_bound, "patch": result.patch,
+            "precision": args.numerics.precision.as_str(),
         });
         report["trajectory_s"] = (collide + (relax + free) / 96.0).into();
         report["collision_steps_per_s"] = collision_rate.into();

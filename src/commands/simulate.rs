@@ -43,8 +43,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         stop_early: !args.full,
         ..Protocol::default()
     };
-    protocol.patch.bound = args.patch_bound;
-    protocol.precision = args.precision;
+    args.numerics.apply(&mut protocol);
     protocol.validate(&params).context("invalid parameters")?;
     let config = Config {
         params,

@@ -134,10 +134,6 @@ pub fn step_pair_in<T: Real>(
         next_b,
         parallel,
     );
-    finish_pair((sa, sb), a, b);
-}
-
-fn finish_pair<T: Real>((sa, sb): (Sums, Sums), a: &mut Cell<T>, b: &mut Cell<T>) {
     a.sums = sa;
     b.sums = sb;
     std::mem::swap(&mut a.phi, &mut a.next);

@@ -246,20 +246,16 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
     }
     let last = if hi == n { n - 1 } else { hi };
     if first < last {
-        // The interior, where no neighbour wraps: one plain loop, which the compiler vectorises.
-        // (Attempts to replace its scalar remainder by gathered or overlapping vector blocks,
-        // or the seam columns by a wrapped copy of the row, all measured slower.)
-        let m = last - first;
-        let cw = &c[first - 1..last + 1];
-        let (up, dn, pj) = (&up[first..last], &dn[first..last], &pj[first..last]);
-        let (p, out) = (&mut p[first..last], &mut out[first..last]);
-        for i in 0..m {
-            // e = phi(i+1, j), w = phi(i-1, j), n = phi(i, j+1), s = phi(i, j-1)
-            let (a, b) =
-                site::<T, FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
-            out[i] = a;
-            p[i] = b;
-        }
+        // The interior, where no neighbour wraps.
+        flat::<T, FIBER, PAIR>(
+            k,
+            &c[first - 1..last + 1],
+            &up[first..last],
+            &dn[first..last],
+            &pj[first..last],
+            &mut p[first..last],
+            &mut out[first..last],
+        );
     }
     if hi == n && first < n {
         let (a, b) = site::<T, FIBER, PAIR>(
@@ -352,7 +348,9 @@ fn span_blocks<T: Real, const FIBER: bool, const PAIR: bool>(
     }
 }
 
-/// The site update over equal-length slices, `cw` holding one extra column at each end.
+/// The site update over equal-length slices, `cw` holding one extra column at each end: one
+/// plain loop, which the compiler vectorises. (Replacing its scalar remainder by gathered or
+/// overlapping vector blocks, or a whole row by a wrapped copy, measured slower.)
 #[inline(always)]
 fn flat<T: Real, const FIBER: bool, const PAIR: bool>(
     k: &StepCoeffs<T>,

@@ -193,7 +193,6 @@ impl Patches {
             steps: 0,
         };
         patches.refit(lat, fibers, cells);
-        patches.stats.refits = 0;
         Some(patches)
     }
 
@@ -242,6 +241,7 @@ impl Patches {
             }
         }
         if refit {
+            self.stats.refits += 1;
             self.refit(lat, fibers, cells);
         }
     }
@@ -250,7 +250,6 @@ impl Patches {
     fn refit<T: Real>(&mut self, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell<T>; 2]) {
         let nx = self.nx;
         let bound = self.settings.bound;
-        self.stats.refits += 1;
         for (k, cell) in cells.into_iter().enumerate() {
             let old = self.windows[k];
             let hot: Vec<bool> = column_maxima(lat, &cell.phi, &cell.p)

@@ -218,9 +218,16 @@ fn lanes_sum<T: Real>(a: &[T; LANES]) -> f64 {
     (((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))).to_f64()
 }
 
+/// The most columns at each end of a row that run as one vector block from a wrapped copy.
+const MAX_EDGE: usize = 16;
+
 /// Columns `lo..hi` of one row of the step: reads phi rows `c` (this row), `up` (j+1), `dn`
 /// (j-1), the other cell's row `pj` (ignored unless `PAIR`), updates `p` in place and writes
 /// phi(t+dt) into `out`. Neighbours wrap round the row (periodic in x).
+///
+/// The seam columns at either end of the row, whose neighbours wrap round, run as a block of
+/// their own from a wrapped copy of the row's end: a whole vector (`T::LANES` columns) where the
+/// row and the span are whole vectors, so no scalar remainder is left; one column otherwise.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
@@ -236,52 +243,21 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
 ) {
     let n = c.len();
     debug_assert!(lo < hi && hi <= n && n >= 2);
-    let (up, dn, pj, p, out) = (&up[..n], &dn[..n], &pj[..n], &mut p[..n], &mut out[..n]);
-    let mut first = lo;
-    if lo == 0 {
-        let (a, b) = site::<T, FIBER, PAIR>(k, c[0], c[1], c[n - 1], up[0], dn[0], p[0], pj[0]);
-        out[0] = a;
-        p[0] = b;
-        first = 1;
-    }
-    let last = if hi == n { n - 1 } else { hi };
-    if first < last {
-        // The interior, where no neighbour wraps.
-        flat::<T, FIBER, PAIR>(
-            k,
-            &c[first - 1..last + 1],
-            &up[first..last],
-            &dn[first..last],
-            &pj[first..last],
-            &mut p[first..last],
-            &mut out[first..last],
-        );
-    }
-    if hi == n && first < n {
-        let (a, b) = site::<T, FIBER, PAIR>(
-            k,
-            c[n - 1],
-            c[0],
-            c[n - 2],
-            up[n - 1],
-            dn[n - 1],
-            p[n - 1],
-            pj[n - 1],
-        );
-        out[n - 1] = a;
-        p[n - 1] = b;
+    // One AVX-512 vector of T: 8 columns in f64, 16 in f32.
+    const { assert!(T::LANES <= MAX_EDGE) };
+    let lanes = T::LANES;
+    // Two calls with a constant `edge` each, so that the seam loops have known lengths.
+    if n % lanes == 0 && n >= 4 * lanes && lo % lanes == 0 && hi % lanes == 0 {
+        seams_and_interior::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi, lanes);
+    } else {
+        seams_and_interior::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi, 1);
     }
 }
 
-/// The most columns at each end of a row that run as one vector block from a wrapped copy.
-const MAX_EDGE: usize = 16;
-
-/// [`step_span`] for columns `lo..hi`, with the seam columns (the first and last `T::LANES` of the
-/// row, whose neighbours wrap round) computed as whole vector blocks from a wrapped copy of the
-/// row's ends instead of one scalar site each plus a scalar remainder.
+/// [`step_span`] with seam blocks of `edge` columns (`lo`, `hi` and the row multiples of it).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn span_blocks<T: Real, const FIBER: bool, const PAIR: bool>(
+fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
     k: &StepCoeffs<T>,
     c: &[T],
     up: &[T],
@@ -291,14 +267,9 @@ fn span_blocks<T: Real, const FIBER: bool, const PAIR: bool>(
     out: &mut [T],
     lo: usize,
     hi: usize,
+    edge: usize,
 ) {
     let n = c.len();
-    // One AVX-512 vector of T: 8 columns in f64, 16 in f32.
-    const { assert!(T::LANES <= MAX_EDGE) };
-    let edge = T::LANES;
-    if n % edge != 0 || n < 4 * edge || lo % edge != 0 || hi % edge != 0 {
-        return step_span::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi);
-    }
     let (mut a, mut b) = (lo, hi);
     if a == 0 {
         // [phi(n-1), phi(0), ..., phi(edge)]
@@ -442,17 +413,15 @@ fn step_body<T: Real>(
             let pair = sp.pair && other.is_some();
             match (fiber, pair) {
                 (false, false) => {
-                    span_blocks::<T, false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                    step_span::<T, false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
                 }
                 (true, false) => {
-                    span_blocks::<T, true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                    step_span::<T, true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
                 }
                 (false, true) => {
-                    span_blocks::<T, false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                    step_span::<T, false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
                 }
-                (true, true) => {
-                    span_blocks::<T, true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
-                }
+                (true, true) => step_span::<T, true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
             }
         }
         sums.push(match fibers.of_row(j) {

@@ -62,6 +62,10 @@ impl Monitor for FrameRecorder {
         self.bars.advance(steps_done);
     }
 
+    fn records_fields(&self) -> bool {
+        true
+    }
+
     fn wants_fields(&self, t: f64) -> bool {
         t + 1e-9 >= self.next
     }

@@ -13,6 +13,9 @@ pub struct Cell<T: Real = f64> {
     pub phi: Vec<T>,
     pub p: Vec<T>,
     pub sums: Sums,
+    /// Whether P is advanced on every row (SPEC literally) or only on the fiber rows, where it
+    /// acts (see [`Cell::polarity_on_fibers_only`]).
+    polarity_everywhere: bool,
     /// Buffer for phi(t + dt).
     next: Vec<T>,
 }
@@ -24,15 +27,49 @@ impl<T: Real> Cell<T> {
         Cell {
             sums: Sums::of(lat, fibers, &phi),
             next: vec![T::default(); lat.len()],
+            polarity_everywhere: true,
             phi,
             p,
+        }
+    }
+
+    /// From now on, advance P only on the fiber rows, and set it to zero on every other row.
+    ///
+    /// P acts on phi only through the motility force A P phi^2 (1 - phi)^2 chi, which is zero
+    /// off the fiber rows, and P's update has no stencil, so P off the fiber rows never feeds
+    /// back: phi and every observable are the same bits either way (tested). The step then
+    /// skips two of the five memory streams of a site on every other row. Only pictures of P
+    /// differ, so runs that draw frames keep P everywhere.
+    pub fn polarity_on_fibers_only(&mut self, lat: &Lattice, fibers: &Fibers) {
+        self.polarity_everywhere = false;
+        for (j, row) in self.p.chunks_exact_mut(lat.nx).enumerate() {
+            if fibers.of_row(j).is_none() {
+                row.fill(T::default());
+            }
+        }
+    }
+
+    /// Whether P is advanced on every row (the default).
+    pub fn polarity_everywhere(&self) -> bool {
+        self.polarity_everywhere
+    }
+
+    /// Step coefficients of this cell.
+    fn coeffs(&self, params: &Params, noise: [f64; 2], motile: bool) -> StepCoeffs<T> {
+        let k = StepCoeffs::<T>::new(params, &self.sums, noise, motile);
+        if self.polarity_everywhere {
+            k
+        } else {
+            k.polarity_on_fibers_only()
         }
     }
 
     /// The same cell in another precision (rounded to nearest when narrowing).
     pub fn convert<U: Real>(&self, lat: &Lattice, fibers: &Fibers) -> Cell<U> {
         let conv = |f: &[T]| f.iter().map(|v| U::of(v.to_f64())).collect::<Vec<U>>();
-        Cell::new(lat, fibers, conv(&self.phi), conv(&self.p))
+        let mut cell = Cell::new(lat, fibers, conv(&self.phi), conv(&self.p));
+        cell.polarity_everywhere = self.polarity_everywhere;
+        cell
     }
 
     /// Advance this cell alone by one step (single-cell stages); with `parallel` on two threads
@@ -46,7 +83,7 @@ impl<T: Real> Cell<T> {
         motile: bool,
         parallel: bool,
     ) {
-        let k = StepCoeffs::<T>::new(params, &self.sums, noise, motile);
+        let k = self.coeffs(params, noise, motile);
         self.sums = step_cell(
             lat,
             fibers,
@@ -107,8 +144,8 @@ pub fn step_pair_in<T: Real>(
     spans: [&[Span]; 2],
     parallel: bool,
 ) {
-    let ka = StepCoeffs::<T>::new(params, &a.sums, noise[0], true);
-    let kb = StepCoeffs::<T>::new(params, &b.sums, noise[1], true);
+    let ka = a.coeffs(params, noise[0], true);
+    let kb = b.coeffs(params, noise[1], true);
     let (phi_a, p_a, next_a) = (&a.phi, &mut a.p, &mut a.next);
     let (phi_b, p_b, next_b) = (&b.phi, &mut b.p, &mut b.next);
     let [sp_a, sp_b] = spans;

@@ -84,6 +84,8 @@ pub struct StepCoeffs<T: Real = f64> {
     half_noise: [T; 2],
     /// Whether the motility force acts (not during relaxation).
     motile: bool,
+    /// Whether P is advanced off the fiber rows too (see [`StepCoeffs::polarity_on_fibers_only`]).
+    polarity_everywhere: bool,
 }
 
 impl<T: Real> StepCoeffs<T> {
@@ -108,7 +110,19 @@ impl<T: Real> StepCoeffs<T> {
             phi_min: T::of(p.phi_min),
             half_noise: [T::of(0.5 * noise[0]), T::of(0.5 * noise[1])],
             motile,
+            polarity_everywhere: true,
         }
+    }
+
+    /// Advance P only on the fiber rows. P enters phi's update only through the motility force
+    /// A P phi^2 (1 - phi)^2 chi, which vanishes off the fiber rows (chi = 0), and P's own update
+    /// is local (no stencil), so P off the fiber rows never feeds back into phi: phi, and every
+    /// observable, come out the same bits either way. The kernel then neither reads nor writes
+    /// P on those rows (two memory streams and five operations per site fewer); the caller sets
+    /// them to zero, so the P field shows only the polarity that acts.
+    pub fn polarity_on_fibers_only(mut self) -> Self {
+        self.polarity_everywhere = false;
+        self
     }
 }
 
@@ -126,7 +140,7 @@ fn fma<T: Real>(a: T, b: T, c: T) -> T {
 /// cell's phi (pair stage only).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn site<T: Real, const FIBER: bool, const PAIR: bool>(
+fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     c: T,
     e: T,
@@ -174,7 +188,9 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool>(
     let phi_new = fma(k.neg_dt, rate, c);
     // P(t+dt) = (P + dt (beta phi dphi - P / tau)) [phi(t) > phi_min]
     //         = (P (1 - dt/tau) - dt beta phi rate) [phi(t) > phi_min]
-    let p_new = if c > k.phi_min {
+    let p_new = if !POL {
+        T::default()
+    } else if c > k.phi_min {
         fma(k.neg_dt_beta * c, rate, p * k.decay)
     } else {
         T::default()
@@ -230,7 +246,7 @@ const MAX_EDGE: usize = 16;
 /// row and the span are whole vectors, so no scalar remainder is left; one column otherwise.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
+fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     c: &[T],
     up: &[T],
@@ -248,16 +264,16 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool>(
     let lanes = T::LANES;
     // Two calls with a constant `edge` each, so that the seam loops have known lengths.
     if n % lanes == 0 && n >= 4 * lanes && lo % lanes == 0 && hi % lanes == 0 {
-        seams_and_interior::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi, lanes);
+        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, lo, hi, lanes);
     } else {
-        seams_and_interior::<T, FIBER, PAIR>(k, c, up, dn, pj, p, out, lo, hi, 1);
+        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, lo, hi, 1);
     }
 }
 
 /// [`step_span`] with seam blocks of `edge` columns (`lo`, `hi` and the row multiples of it).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
+fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     c: &[T],
     up: &[T],
@@ -277,7 +293,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
         let cw = &mut buf[..edge + 2];
         cw[0] = c[n - 1];
         cw[1..].copy_from_slice(&c[..=edge]);
-        flat::<T, FIBER, PAIR>(
+        flat::<T, FIBER, PAIR, POL>(
             k,
             cw,
             &up[..edge],
@@ -295,7 +311,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
         let cw = &mut buf[..edge + 2];
         cw[..=edge].copy_from_slice(&c[s - 1..]);
         cw[edge + 1] = c[0];
-        flat::<T, FIBER, PAIR>(
+        flat::<T, FIBER, PAIR, POL>(
             k,
             cw,
             &up[s..],
@@ -307,7 +323,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
         b = s;
     }
     if a < b {
-        flat::<T, FIBER, PAIR>(
+        flat::<T, FIBER, PAIR, POL>(
             k,
             &c[a - 1..b + 1],
             &up[a..b],
@@ -323,7 +339,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool>(
 /// plain loop, which the compiler vectorises. (Replacing its scalar remainder by gathered or
 /// overlapping vector blocks, or a whole row by a wrapped copy, measured slower.)
 #[inline(always)]
-fn flat<T: Real, const FIBER: bool, const PAIR: bool>(
+fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     cw: &[T],
     up: &[T],
@@ -334,11 +350,37 @@ fn flat<T: Real, const FIBER: bool, const PAIR: bool>(
 ) {
     let m = out.len();
     let (cw, up, dn, pj, p) = (&cw[..m + 2], &up[..m], &dn[..m], &pj[..m], &mut p[..m]);
-    for i in 0..m {
-        let (a, b) =
-            site::<T, FIBER, PAIR>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], p[i], pj[i]);
-        out[i] = a;
-        p[i] = b;
+    if POL {
+        for i in 0..m {
+            let (a, b) = site::<T, FIBER, PAIR, true>(
+                k,
+                cw[i + 1],
+                cw[i + 2],
+                cw[i],
+                up[i],
+                dn[i],
+                p[i],
+                pj[i],
+            );
+            out[i] = a;
+            p[i] = b;
+        }
+    } else {
+        // P is neither read nor written (it does not act on this row).
+        for i in 0..m {
+            let z = T::default();
+            let (a, _) = site::<T, FIBER, PAIR, false>(
+                k,
+                cw[i + 1],
+                cw[i + 2],
+                cw[i],
+                up[i],
+                dn[i],
+                z,
+                pj[i],
+            );
+            out[i] = a;
+        }
     }
 }
 
@@ -409,19 +451,30 @@ fn step_body<T: Real>(
             Some(q) => &q[rj.clone()],
             None => c,
         };
+        // P acts only where chi = 1; elsewhere it is advanced only if asked for.
+        let pol = fiber || k.polarity_everywhere;
         for sp in spans {
             let pair = sp.pair && other.is_some();
-            match (fiber, pair) {
-                (false, false) => {
-                    step_span::<T, false, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+            let (lo, hi) = (sp.lo, sp.hi);
+            match (fiber, pair, pol) {
+                (false, false, false) => {
+                    step_span::<T, false, false, false>(k, c, up, dn, pjr, pr, o, lo, hi)
                 }
-                (true, false) => {
-                    step_span::<T, true, false>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                (false, true, false) => {
+                    step_span::<T, false, true, false>(k, c, up, dn, pjr, pr, o, lo, hi)
                 }
-                (false, true) => {
-                    step_span::<T, false, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi)
+                (false, false, true) => {
+                    step_span::<T, false, false, true>(k, c, up, dn, pjr, pr, o, lo, hi)
                 }
-                (true, true) => step_span::<T, true, true>(k, c, up, dn, pjr, pr, o, sp.lo, sp.hi),
+                (false, true, true) => {
+                    step_span::<T, false, true, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                }
+                (true, false, _) => {
+                    step_span::<T, true, false, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                }
+                (true, true, _) => {
+                    step_span::<T, true, true, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                }
             }
         }
         sums.push(match fibers.of_row(j) {

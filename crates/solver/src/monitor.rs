@@ -11,6 +11,13 @@ pub enum Stage {
 
 /// Receives progress from a running trajectory. Every method has a no-op default.
 pub trait Monitor {
+    /// Whether this monitor will ask for the collision's fields at all. If not, the collision
+    /// advances P only on the fiber rows, where it acts (`Cell::polarity_on_fibers_only`: the
+    /// same phi and observables, bit for bit, faster); if so, P is kept on every row for the
+    /// pictures.
+    fn records_fields(&self) -> bool {
+        false
+    }
     /// Whether [`Monitor::fields`] wants the collision's fields at time `t` (asked at every
     /// record interval).
     fn wants_fields(&self, _t: f64) -> bool {

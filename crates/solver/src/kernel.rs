@@ -9,8 +9,9 @@
 //! every a*b+c the update needs is written as an explicit fused multiply-add (one rounding), so
 //! the result does not depend on the instruction set: the AVX-512 and AVX2+FMA builds of the same
 //! code, chosen at run time, are bit-identical to the portable one, which calls the correctly
-//! rounded libm `fma` (Rust never contracts a*b+c on its own). Fusing and folding the constants
-//! brought the site update from about 47 to 30 vector operations (1.3x on the pair step).
+//! rounded libm `fma` (Rust never contracts a*b+c on its own). Fusing, folding the constants
+//! and grouping mu's terms as phi * (...) brought the site update from about 47 vector
+//! operations to 22 (13 of them multiplications, the units this CPU runs out of first).
 //!
 //! The step runs in any [`Real`] (f64, or f32 for an opt-in collision stage; the integrals are
 //! returned in f64) and over any set of column [`Span`]s (the collision's per-cell windows,
@@ -55,35 +56,36 @@ impl Sums {
 }
 
 /// Coefficients of one cell's step, constant over the lattice, folded so that the site update
-/// needs as few operations as possible (see `site` for the equations they come from).
+/// needs as few multiplications as possible (see `site` for the equations they come from).
+///
+/// mu is computed scaled by 1 / (alpha d^2 / 2) (positive: `Params::validate` requires alpha
+/// and d > 0), so that the Laplacian's neighbour sum enters it with coefficient -1; the scale is
+/// folded back into the mobility `mobility_*`. Fields named `*_s` carry that scale.
 #[derive(Debug, Clone, Copy)]
 pub struct StepCoeffs<T: Real = f64> {
-    alpha: T,
-    /// alpha d^2 / 2
-    alpha_half_d2: T,
-    /// 4 lambda / (pi R0^2) (1 - S / (pi R0^2)): the area term is -area * phi.
-    area: T,
-    /// -6 E0 A_ref / (A_ref + Ad)^2: the fiber term is +neg_fiber * phi (1 - phi) chi.
-    neg_fiber: T,
-    two_g: T,
-    two_sigma: T,
-    /// A / (2 eta), 0 without the motility force: |grad phi| = sqrt(h2) / 2, h2 below.
-    half_a_over_eta: T,
-    /// 1 / (4 eta): |grad phi|^2 / eta = h2 / (4 eta).
-    quarter_inv_eta: T,
-    inv_gamma: T,
-    /// -dt
-    neg_dt: T,
-    /// -dt beta
-    neg_dt_beta: T,
+    alpha_s: T,
+    /// 4 - 4 lambda / (pi R0^2) (1 - S / (pi R0^2)) / (alpha d^2 / 2): the parts of mu linear in
+    /// phi, the Laplacian's centre and the area term, are phi * linear_s (scaled).
+    linear_s: T,
+    /// -6 E0 A_ref / (A_ref + Ad)^2 (scaled): the fiber term is phi (1 - phi) chi neg_fiber_s.
+    neg_fiber_s: T,
+    two_g_s: T,
+    neg_two_sigma_s: T,
+    /// -dt (alpha d^2 / 2) / (4 eta) and -dt (alpha d^2 / 2) / gamma: with mu_s = mu / (alpha
+    /// d^2 / 2), -dt (mu |grad phi|^2 / eta + mu / gamma) = mu_s (h2 mobility_h2 + mobility_0).
+    mobility_h2: T,
+    mobility_0: T,
+    /// dt A / (2 eta), 0 without the motility force: |grad phi| = sqrt(h2) / 2, h2 below.
+    dt_half_a_over_eta: T,
+    beta: T,
     /// 1 - dt / tau
     decay: T,
     phi_min: T,
-    /// Half the uniform velocity noise (vx, vy) of this cell at this step: vnoise . grad phi =
-    /// half_noise . (e - w, n - s).
-    half_noise: [T; 2],
-    /// Whether the motility force acts (not during relaxation).
-    motile: bool,
+    /// -dt/2 times the uniform velocity noise (vx, vy) of this cell at this step:
+    /// -dt vnoise . grad phi = neg_dt_half_noise . (e - w, n - s).
+    neg_dt_half_noise: [T; 2],
+    /// Whether the fiber terms act (the motility force, or a non-zero fiber adhesion).
+    fiber_on: bool,
     /// Whether P is advanced off the fiber rows too (see [`StepCoeffs::polarity_on_fibers_only`]).
     polarity_everywhere: bool,
 }
@@ -94,22 +96,28 @@ impl<T: Real> StepCoeffs<T> {
     pub fn new(p: &Params, sums: &Sums, noise: [f64; 2], motile: bool) -> Self {
         let a0 = PI * p.R0 * p.R0;
         let ad = sums.adhesive_total();
+        let scale = p.alpha * (p.d * p.d / 2.0);
+        debug_assert!(scale > 0.0, "alpha and d must be positive");
+        let area = 4.0 * p.lambda / a0 * (1.0 - sums.area / a0);
+        let neg_fiber = -(6.0 * p.E0 * p.A_ref / ((p.A_ref + ad) * (p.A_ref + ad)));
         StepCoeffs {
-            alpha: T::of(p.alpha),
-            alpha_half_d2: T::of(p.alpha * (p.d * p.d / 2.0)),
-            area: T::of(4.0 * p.lambda / a0 * (1.0 - sums.area / a0)),
-            neg_fiber: T::of(-(6.0 * p.E0 * p.A_ref / ((p.A_ref + ad) * (p.A_ref + ad)))),
-            two_g: T::of(2.0 * p.g),
-            two_sigma: T::of(2.0 * p.sigma),
-            half_a_over_eta: T::of(if motile { 0.5 * p.A / p.eta } else { 0.0 }),
-            quarter_inv_eta: T::of(0.25 / p.eta),
-            inv_gamma: T::of(p.inv_gamma),
-            neg_dt: T::of(-p.dt),
-            neg_dt_beta: T::of(-(p.dt * p.beta)),
+            alpha_s: T::of(p.alpha / scale),
+            linear_s: T::of(4.0 - area / scale),
+            neg_fiber_s: T::of(neg_fiber / scale),
+            two_g_s: T::of(2.0 * p.g / scale),
+            neg_two_sigma_s: T::of(-2.0 * p.sigma / scale),
+            mobility_h2: T::of(-p.dt * scale * 0.25 / p.eta),
+            mobility_0: T::of(-p.dt * scale * p.inv_gamma),
+            dt_half_a_over_eta: T::of(if motile {
+                p.dt * 0.5 * p.A / p.eta
+            } else {
+                0.0
+            }),
+            beta: T::of(p.beta),
             decay: T::of(1.0 - p.dt / p.tau),
             phi_min: T::of(p.phi_min),
-            half_noise: [T::of(0.5 * noise[0]), T::of(0.5 * noise[1])],
-            motile,
+            neg_dt_half_noise: [T::of(-p.dt * 0.5 * noise[0]), T::of(-p.dt * 0.5 * noise[1])],
+            fiber_on: motile || neg_fiber != 0.0,
             polarity_everywhere: true,
         }
     }
@@ -137,7 +145,10 @@ fn fma<T: Real>(a: T, b: T, c: T) -> T {
 /// One site: returns (phi(t+dt), P(t+dt)), SPEC section 3.
 ///
 /// `c` is phi at the site, `e w n s` its four neighbours, `p` the polarity, `pj` the other
-/// cell's phi (pair stage only).
+/// cell's phi (pair stage only). The equations are regrouped so that every term of mu carrying
+/// phi is one product phi * (...): on this CPU the multiply and FMA units are the bottleneck,
+/// and the regrouped site needs 13 of them (pair, off the fiber rows) where the term-by-term
+/// form needed 20. `kernel_vs_spec` checks it against the term-by-term transcription.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
@@ -151,56 +162,67 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     pj: T,
 ) -> (T, T) {
     let one = T::of(1.0);
-    // lap(phi) = e + w + n + s - 4 phi; grad(phi) = (ex, ey) / 2 with ex = e - w, ey = n - s.
-    let lap = fma(T::of(-4.0), c, (e + w) + (n + s));
+    // mu = alpha poly - alpha d^2/2 lap - 4 lambda phi/(pi R0^2) (1 - S/(pi R0^2))
+    //      - 6 E0 A_ref phi (1 - phi) chi / (A_ref + Ad)^2
+    //      + 2 g phi phi_j^2 - 2 sigma poly phi_j^2 (1 - phi_j)^2,
+    // with poly = phi q, q = phi (phi - 1.5) + 0.5, and lap = (e + w + n + s) - 4 phi. Scaled by
+    // 1 / (alpha d^2/2) (the `_s` coefficients), with h_j = phi_j (1 - phi_j):
+    // mu_s = phi [q (alpha - 2 sigma h_j^2) + linear + neg_fiber (1 - phi) chi + 2 g phi_j^2]_s
+    //        - (e + w + n + s).
+    let q = fma(c, c - T::of(1.5), T::of(0.5));
+    let mut inner = if PAIR {
+        let pj2 = pj * pj;
+        let hj = pj - pj2;
+        fma(
+            q,
+            fma(k.neg_two_sigma_s, hj * hj, k.alpha_s),
+            fma(k.two_g_s, pj2, k.linear_s),
+        )
+    } else {
+        fma(k.alpha_s, q, k.linear_s)
+    };
+    if FIBER {
+        inner = fma(k.neg_fiber_s, one - c, inner);
+    }
+    let mu_s = fma(c, inner, -((e + w) + (n + s)));
+    // grad(phi) = (ex, ey) / 2; h2 = 4 |grad phi|^2.
     let ex = e - w;
     let ey = n - s;
-    // h2 = 4 |grad phi|^2
     let h2 = fma(ex, ex, ey * ey);
-    // poly = phi^3 - 1.5 phi^2 + 0.5 phi = phi (phi (phi - 1.5) + 0.5)
-    let poly = c * fma(c, c - T::of(1.5), T::of(0.5));
-    // mu = alpha poly - alpha d^2/2 lap - 4 lambda phi/(pi R0^2) (1 - S/(pi R0^2)) ...
-    let mut mu = fma(k.alpha, poly, -fma(k.alpha_half_d2, lap, k.area * c));
-    // b = phi (1 - phi), used by the fiber adhesion and the motility force.
-    let b = if FIBER { c * (one - c) } else { T::default() };
-    if FIBER {
-        // ... - 6 E0 A_ref phi (1 - phi) chi / (A_ref + Ad)^2 ...
-        mu = fma(k.neg_fiber, b, mu);
-    }
-    if PAIR {
-        // ... + 2 g phi phi_j^2 - 2 sigma poly phi_j^2 (1 - phi_j)^2.
-        let hj = pj * (one - pj);
-        mu = fma(
-            k.two_g * c,
-            pj * pj,
-            fma(-(k.two_sigma * poly), hj * hj, mu),
-        );
-    }
-    // rate = v . grad(phi) + mu / gamma = -dphi/dt, where
+    // delta = dt dphi = -dt (v . grad(phi) + mu / gamma), where
     // v . grad(phi) = (mu |grad phi|^2 - A P phi^2 (1-phi)^2 chi |grad phi|) / eta
     //                 + vnoise . grad(phi).
-    let noise = fma(k.half_noise[0], ex, k.half_noise[1] * ey);
-    let mut rate = fma(mu, fma(h2, k.quarter_inv_eta, k.inv_gamma), noise);
+    let noise = fma(k.neg_dt_half_noise[0], ex, k.neg_dt_half_noise[1] * ey);
+    let mut delta = fma(mu_s, fma(h2, k.mobility_h2, k.mobility_0), noise);
     if FIBER {
-        rate = fma(-(k.half_a_over_eta * p) * (b * b), h2.sqrt(), rate);
+        // b = phi (1 - phi); |grad phi| = sqrt(h2) / 2.
+        let b = c * (one - c);
+        delta = fma((k.dt_half_a_over_eta * p) * (b * b), h2.sqrt(), delta);
     }
-    // phi(t+dt) = phi + dt dphi, dphi = -rate
-    let phi_new = fma(k.neg_dt, rate, c);
+    // phi(t+dt) = phi + dt dphi
+    let phi_new = c + delta;
     // P(t+dt) = (P + dt (beta phi dphi - P / tau)) [phi(t) > phi_min]
-    //         = (P (1 - dt/tau) - dt beta phi rate) [phi(t) > phi_min]
-    let p_new = if !POL {
-        T::default()
-    } else if c > k.phi_min {
-        fma(k.neg_dt_beta * c, rate, p * k.decay)
+    //         = (P (1 - dt/tau) + beta phi delta) [phi(t) > phi_min]
+    let p_new = if POL {
+        // Computed unconditionally and then selected, without a branch, so that the seam
+        // blocks (fully unrolled) vectorise as well as the main loop.
+        let v = fma(k.beta * c, delta, p * k.decay);
+        if c > k.phi_min {
+            v
+        } else {
+            T::default()
+        }
     } else {
         T::default()
     };
     (phi_new, p_new)
 }
 
-/// Number of independent accumulators in the reductions (fixed: results do not depend on the
-/// SIMD width).
-const LANES: usize = 8;
+/// Number of independent accumulators in the reductions: fixed, so results do not depend on
+/// the SIMD width, and four AVX-512 vectors of f64 wide, so the additions do not wait on one
+/// another (with one vector of accumulators the sums took an eighth of the step, bound by the
+/// latency of one chain of FMAs).
+const LANES: usize = 32;
 
 /// (sum phi^2, sum phi^2 (3 - 2 phi)) of one row; the second only if `FIBER`.
 #[inline(always)]
@@ -213,25 +235,33 @@ fn row_sums<T: Real, const FIBER: bool>(row: &[T]) -> (f64, f64) {
     for chunk in chunks {
         for l in 0..LANES {
             let v = chunk[l];
-            let v2 = v * v;
-            area[l] = area[l] + v2;
+            area[l] = fma(v, v, area[l]);
             if FIBER {
-                adh[l] = adh[l] + v2 * (three - two * v);
+                adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
             }
         }
     }
     for (l, &v) in rest.iter().enumerate() {
-        area[l] = area[l] + v * v;
+        area[l] = fma(v, v, area[l]);
         if FIBER {
-            adh[l] = adh[l] + v * v * (three - two * v);
+            adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
         }
     }
     (lanes_sum(&area), lanes_sum(&adh))
 }
 
+/// The accumulators' total, added pairwise in a fixed order.
 #[inline(always)]
 fn lanes_sum<T: Real>(a: &[T; LANES]) -> f64 {
-    (((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]))).to_f64()
+    let mut v = *a;
+    let mut n = LANES;
+    while n > 1 {
+        n /= 2;
+        for l in 0..n {
+            v[l] = v[l] + v[l + n];
+        }
+    }
+    v[0].to_f64()
 }
 
 /// The most columns at each end of a row that run as one vector block from a wrapped copy.
@@ -336,8 +366,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
 }
 
 /// The site update over equal-length slices, `cw` holding one extra column at each end: one
-/// plain loop, which the compiler vectorises. (Replacing its scalar remainder by gathered or
-/// overlapping vector blocks, or a whole row by a wrapped copy, measured slower.)
+/// plain loop, which the compiler vectorises.
 #[inline(always)]
 fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
@@ -405,16 +434,18 @@ impl Span {
     }
 }
 
-/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, span by span.
+/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, span by span. (A plain
+/// loop, not a closure: closures do not inherit the caller's `target_feature`s, and the FMAs
+/// would become calls.)
 #[inline(always)]
 fn spans_sums<T: Real, const FIBER: bool>(row: &[T], spans: &[Span]) -> (f64, f64) {
-    match spans {
-        [one] => row_sums::<T, FIBER>(&row[one.lo..one.hi]),
-        _ => spans.iter().fold((0.0, 0.0), |(a, ad), sp| {
-            let (x, y) = row_sums::<T, FIBER>(&row[sp.lo..sp.hi]);
-            (a + x, ad + y)
-        }),
+    let (mut area, mut adh) = (0.0, 0.0);
+    for sp in spans {
+        let (x, y) = row_sums::<T, FIBER>(&row[sp.lo..sp.hi]);
+        area += x;
+        adh += y;
     }
+    (area, adh)
 }
 
 /// Rows `first..first + p.len() / nx` of one cell's step, columns `spans` (`p` and `out` hold
@@ -436,7 +467,7 @@ fn step_body<T: Real>(
 ) -> Vec<(f64, f64)> {
     let rows = p.len() / nx;
     let mut sums = Vec::with_capacity(rows);
-    let fiber_on = k.motile || k.neg_fiber != T::default();
+    let fiber_on = k.fiber_on;
     for r in 0..rows {
         let j = first + r;
         let row = |r: usize| r * nx..(r + 1) * nx;

@@ -38,20 +38,76 @@ impl Sums {
         self.adhesive[0] + self.adhesive[1]
     }
 
-    /// The sums of a field, accumulated in the same order as the kernel does.
+    /// The sums of a field, accumulated in the same order as the kernel does (so a step's
+    /// returned sums are exactly `Sums::of` its new phi).
     pub fn of<T: Real>(lat: &Lattice, fibers: &Fibers, phi: &[T]) -> Sums {
-        let mut sums = Sums::default();
-        for (j, row) in phi.chunks_exact(lat.nx).enumerate() {
-            match fibers.of_row(j) {
-                Some(f) => {
-                    let (a, ad) = row_sums::<T, true>(row);
-                    sums.area += a;
-                    sums.adhesive[f as usize] += ad;
+        let (nx, h) = (lat.nx, lat.ny / 2);
+        let full = [Span::full(nx, false)];
+        let half = |first: usize, rows: &[T]| {
+            let mut part = Partial::new(nx);
+            let mut acc = vec![T::default(); nx];
+            let count = rows.len() / nx;
+            for (r, row) in rows.chunks_exact(nx).enumerate() {
+                for (a, &v) in acc.iter_mut().zip(row) {
+                    *a = fma(v, v, *a);
                 }
-                None => sums.area += row_sums::<T, false>(row).0,
+                part.row_done(fibers, first + r, r, count, row, &full, &mut acc);
+            }
+            part
+        };
+        let (top, bottom) = phi.split_at(h * nx);
+        integrals([half(0, top), half(h, bottom)])
+    }
+}
+
+/// What a block of rows contributes to the integrals of phi(t+dt).
+struct Partial {
+    /// sum phi^2 of each column over the block's rows: FLUSH_ROWS rows at a time in the field's
+    /// precision, then added here in f64.
+    columns: Vec<f64>,
+    /// Adhesive area per fiber, the block's fiber rows in row order.
+    adhesive: [f64; 2],
+}
+
+/// Rows whose squares are summed column by column in the field's own precision before they are
+/// added to the f64 column totals (so f32 runs do not sum a whole column in f32).
+const FLUSH_ROWS: usize = 8;
+
+impl Partial {
+    fn new(nx: usize) -> Self {
+        Partial {
+            columns: vec![0.0; nx],
+            adhesive: [0.0; 2],
+        }
+    }
+
+    /// Row `r` (lattice row `j`) of a block of `count` rows is done: `row` is phi(t+dt) there,
+    /// and its squares have been added to `acc` in the columns `spans`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn row_done<T: Real>(
+        &mut self,
+        fibers: &Fibers,
+        j: usize,
+        r: usize,
+        count: usize,
+        row: &[T],
+        spans: &[Span],
+        acc: &mut [T],
+    ) {
+        // Ad: a handful of fiber rows.
+        if let Some(f) = fibers.of_row(j) {
+            self.adhesive[f as usize] += spans_sums::<T, true>(row, spans).1;
+        }
+        if (r + 1) % FLUSH_ROWS == 0 || r + 1 == count {
+            for sp in spans {
+                let cols = self.columns[sp.lo..sp.hi].iter_mut();
+                for (c, a) in cols.zip(&mut acc[sp.lo..sp.hi]) {
+                    *c += a.to_f64();
+                    *a = T::default();
+                }
             }
         }
-        sums
     }
 }
 
@@ -218,36 +274,40 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     (phi_new, p_new)
 }
 
-/// Number of independent accumulators in the reductions: fixed, so results do not depend on
-/// the SIMD width, and four AVX-512 vectors of f64 wide, so the additions do not wait on one
-/// another (with one vector of accumulators the sums took an eighth of the step, bound by the
-/// latency of one chain of FMAs).
+/// Number of independent accumulators in the reductions: fixed, so results do not depend on the
+/// SIMD width, and four AVX-512 vectors of f64 wide, so the additions need not wait on one FMA
+/// chain (with one vector of accumulators the sums took an eighth of the step).
 const LANES: usize = 32;
 
-/// (sum phi^2, sum phi^2 (3 - 2 phi)) of one row; the second only if `FIBER`.
+/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, the second only if
+/// `FIBER`: element k of a span goes to accumulator k mod `LANES`, span after span, and the
+/// accumulators are added up once per row. (Plain loops, not closures: closures do not inherit
+/// the caller's `target_feature`s, and the FMAs would become calls.)
 #[inline(always)]
-fn row_sums<T: Real, const FIBER: bool>(row: &[T]) -> (f64, f64) {
+fn spans_sums<T: Real, const FIBER: bool>(row: &[T], spans: &[Span]) -> (f64, f64) {
     let (zero, two, three) = (T::default(), T::of(2.0), T::of(3.0));
     let mut area = [zero; LANES];
     let mut adh = [zero; LANES];
-    let chunks = row.chunks_exact(LANES);
-    let rest = chunks.remainder();
-    for chunk in chunks {
-        for l in 0..LANES {
-            let v = chunk[l];
+    for sp in spans {
+        let chunks = row[sp.lo..sp.hi].chunks_exact(LANES);
+        let rest = chunks.remainder();
+        for chunk in chunks {
+            for l in 0..LANES {
+                let v = chunk[l];
+                area[l] = fma(v, v, area[l]);
+                if FIBER {
+                    adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
+                }
+            }
+        }
+        for (l, &v) in rest.iter().enumerate() {
             area[l] = fma(v, v, area[l]);
             if FIBER {
                 adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
             }
         }
     }
-    for (l, &v) in rest.iter().enumerate() {
-        area[l] = fma(v, v, area[l]);
-        if FIBER {
-            adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
-        }
-    }
-    (lanes_sum(&area), lanes_sum(&adh))
+    (lanes_sum(&area), if FIBER { lanes_sum(&adh) } else { 0.0 })
 }
 
 /// The accumulators' total, added pairwise in a fixed order.
@@ -284,6 +344,7 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     pj: &[T],
     p: &mut [T],
     out: &mut [T],
+    acc: &mut [T],
     lo: usize,
     hi: usize,
 ) {
@@ -294,9 +355,9 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     let lanes = T::LANES;
     // Two calls with a constant `edge` each, so that the seam loops have known lengths.
     if n % lanes == 0 && n >= 4 * lanes && lo % lanes == 0 && hi % lanes == 0 {
-        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, lo, hi, lanes);
+        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, acc, lo, hi, lanes);
     } else {
-        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, lo, hi, 1);
+        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, acc, lo, hi, 1);
     }
 }
 
@@ -311,6 +372,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
     pj: &[T],
     p: &mut [T],
     out: &mut [T],
+    acc: &mut [T],
     lo: usize,
     hi: usize,
     edge: usize,
@@ -331,6 +393,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
             &pj[..edge],
             &mut p[..edge],
             &mut out[..edge],
+            &mut acc[..edge],
         );
         a = edge;
     }
@@ -349,6 +412,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
             &pj[s..],
             &mut p[s..],
             &mut out[s..],
+            &mut acc[s..],
         );
         b = s;
     }
@@ -361,13 +425,16 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
             &pj[a..b],
             &mut p[a..b],
             &mut out[a..b],
+            &mut acc[a..b],
         );
     }
 }
 
-/// The site update over equal-length slices, `cw` holding one extra column at each end: one
-/// plain loop, which the compiler vectorises.
+/// The site update over equal-length slices, `cw` holding one extra column at each end, adding
+/// each phi(t+dt)^2 to its column's accumulator in `acc`: one plain loop, which the compiler
+/// vectorises (the accumulators are element-wise, so there is no reduction in the loop).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     cw: &[T],
@@ -376,40 +443,28 @@ fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     pj: &[T],
     p: &mut [T],
     out: &mut [T],
+    acc: &mut [T],
 ) {
     let m = out.len();
-    let (cw, up, dn, pj, p) = (&cw[..m + 2], &up[..m], &dn[..m], &pj[..m], &mut p[..m]);
-    if POL {
-        for i in 0..m {
-            let (a, b) = site::<T, FIBER, PAIR, true>(
-                k,
-                cw[i + 1],
-                cw[i + 2],
-                cw[i],
-                up[i],
-                dn[i],
-                p[i],
-                pj[i],
-            );
-            out[i] = a;
+    let (cw, up, dn, pj, p, acc) = (
+        &cw[..m + 2],
+        &up[..m],
+        &dn[..m],
+        &pj[..m],
+        &mut p[..m],
+        &mut acc[..m],
+    );
+    for i in 0..m {
+        // P is neither read nor written where it does not act (`POL` false).
+        let pi = if POL { p[i] } else { T::default() };
+        let (a, b) =
+            site::<T, FIBER, PAIR, POL>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], pi, pj[i]);
+        out[i] = a;
+        if POL {
             p[i] = b;
         }
-    } else {
-        // P is neither read nor written (it does not act on this row).
-        for i in 0..m {
-            let z = T::default();
-            let (a, _) = site::<T, FIBER, PAIR, false>(
-                k,
-                cw[i + 1],
-                cw[i + 2],
-                cw[i],
-                up[i],
-                dn[i],
-                z,
-                pj[i],
-            );
-            out[i] = a;
-        }
+        // S = sum phi(t+dt)^2, column by column (summed over the columns after the step).
+        acc[i] = fma(a, a, acc[i]);
     }
 }
 
@@ -434,23 +489,13 @@ impl Span {
     }
 }
 
-/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, span by span. (A plain
-/// loop, not a closure: closures do not inherit the caller's `target_feature`s, and the FMAs
-/// would become calls.)
-#[inline(always)]
-fn spans_sums<T: Real, const FIBER: bool>(row: &[T], spans: &[Span]) -> (f64, f64) {
-    let (mut area, mut adh) = (0.0, 0.0);
-    for sp in spans {
-        let (x, y) = row_sums::<T, FIBER>(&row[sp.lo..sp.hi]);
-        area += x;
-        adh += y;
-    }
-    (area, adh)
-}
-
 /// Rows `first..first + p.len() / nx` of one cell's step, columns `spans` (`p` and `out` hold
-/// just those rows); returns each row's (area, adhesive area) contributions, to be summed in row
-/// order.
+/// just those rows); returns their contributions to the integrals.
+///
+/// The area sum phi^2 is accumulated in the step's own loop, column by column, into a row of f64
+/// accumulators: element-wise, so the compiler vectorises it with the step (per-row reductions
+/// into a few accumulators, in a second pass, were left to the SLP vectoriser, which often fell
+/// back to scalar code, and cost up to a fifth of the step).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn step_body<T: Real>(
@@ -464,9 +509,11 @@ fn step_body<T: Real>(
     other: Option<&[T]>,
     spans: &[Span],
     out: &mut [T],
-) -> Vec<(f64, f64)> {
+) -> Partial {
     let rows = p.len() / nx;
-    let mut sums = Vec::with_capacity(rows);
+    let mut part = Partial::new(nx);
+    // The squares of up to FLUSH_ROWS rows, column by column, in T (see `Partial`).
+    let mut acc_t = vec![T::default(); nx];
     let fiber_on = k.fiber_on;
     for r in 0..rows {
         let j = first + r;
@@ -484,36 +531,34 @@ fn step_body<T: Real>(
         };
         // P acts only where chi = 1; elsewhere it is advanced only if asked for.
         let pol = fiber || k.polarity_everywhere;
+        let acc = &mut acc_t[..];
         for sp in spans {
             let pair = sp.pair && other.is_some();
             let (lo, hi) = (sp.lo, sp.hi);
             match (fiber, pair, pol) {
                 (false, false, false) => {
-                    step_span::<T, false, false, false>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, false, false, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
                 (false, true, false) => {
-                    step_span::<T, false, true, false>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, false, true, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
                 (false, false, true) => {
-                    step_span::<T, false, false, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
                 (false, true, true) => {
-                    step_span::<T, false, true, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, false, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
                 (true, false, _) => {
-                    step_span::<T, true, false, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
                 (true, true, _) => {
-                    step_span::<T, true, true, true>(k, c, up, dn, pjr, pr, o, lo, hi)
+                    step_span::<T, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
             }
         }
-        sums.push(match fibers.of_row(j) {
-            Some(_) => spans_sums::<T, true>(o, spans),
-            None => (spans_sums::<T, false>(o, spans).0, 0.0),
-        });
+        part.row_done(fibers, j, r, rows, o, spans, &mut acc_t);
     }
-    sums
+    part
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -530,7 +575,7 @@ unsafe fn step_body_avx2<T: Real>(
     other: Option<&[T]>,
     spans: &[Span],
     out: &mut [T],
-) -> Vec<(f64, f64)> {
+) -> Partial {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
 
@@ -548,7 +593,7 @@ unsafe fn step_body_avx512<T: Real>(
     other: Option<&[T]>,
     spans: &[Span],
     out: &mut [T],
-) -> Vec<(f64, f64)> {
+) -> Partial {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
 }
 
@@ -585,17 +630,19 @@ fn isa() -> Isa {
     })
 }
 
-/// The integrals from per-row contributions, summed in row order (the same bits however the
-/// rows were split between threads).
-fn fold_rows(fibers: &Fibers, rows: impl IntoIterator<Item = (f64, f64)>) -> Sums {
-    let mut sums = Sums::default();
-    for (j, (a, ad)) in rows.into_iter().enumerate() {
-        sums.area += a;
-        if let Some(f) = fibers.of_row(j) {
-            sums.adhesive[f as usize] += ad;
-        }
+/// The integrals from the contributions of the two halves of the rows (the same halves whether
+/// or not they ran on two threads, so the result is the same bits): the columns' squares added
+/// half to half, then across the columns in `LANES` accumulators and a fixed tree.
+fn integrals(halves: [Partial; 2]) -> Sums {
+    let [a, b] = halves;
+    let mut lanes = [0.0f64; LANES];
+    for (i, (x, y)) in a.columns.iter().zip(&b.columns).enumerate() {
+        lanes[i % LANES] += x + y;
     }
-    sums
+    Sums {
+        area: lanes_sum(&lanes),
+        adhesive: [a.adhesive[0] + b.adhesive[0], a.adhesive[1] + b.adhesive[1]],
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -630,16 +677,16 @@ fn step_with<T: Real>(
         Isa::Avx2 => unsafe { step_body_avx2(nx, ny, fibers, k, phi, first, p, other, spans, out) },
         Isa::Portable => step_body(nx, ny, fibers, k, phi, first, p, other, spans, out),
     };
-    if parallel && ny >= 4 {
-        let h = ny / 2;
-        let (p0, p1) = p.split_at_mut(h * nx);
-        let (o0, o1) = out.split_at_mut(h * nx);
-        let (mut lo, hi) = rayon::join(|| run(0, p0, o0), || run(h, p1, o1));
-        lo.extend(hi);
-        fold_rows(fibers, lo)
+    // Two halves of the rows, on two threads with `parallel`.
+    let h = ny / 2;
+    let (p0, p1) = p.split_at_mut(h * nx);
+    let (o0, o1) = out.split_at_mut(h * nx);
+    let halves = if parallel && ny >= 4 {
+        rayon::join(|| run(0, p0, o0), || run(h, p1, o1))
     } else {
-        fold_rows(fibers, run(0, p, out))
-    }
+        (run(0, p0, o0), run(h, p1, o1))
+    };
+    integrals([halves.0, halves.1])
 }
 
 /// Advance one cell by one step: reads `phi` (and the other cell's phi, if any), updates `p` in

@@ -1,7 +1,7 @@
 //! One cell's fields (phi, P) with the integrals the next step needs, and how cells advance.
 
 use crate::fibers::Fibers;
-use crate::kernel::{step_cell, step_cell_in, Span, StepCoeffs, Sums};
+use crate::kernel::{step_cell, step_cell_in, RowSpans, Span, StepCoeffs, Sums};
 use crate::lattice::Lattice;
 use crate::params::Params;
 use crate::real::Real;
@@ -97,17 +97,14 @@ impl<T: Real> Cell<T> {
         std::mem::swap(&mut self.phi, &mut self.next);
     }
 
-    /// Set phi and P to exactly zero in the columns flagged in `cols` (in both phi buffers, so
+    /// Set phi and P to exactly zero at the sites flagged in `drop` (in both phi buffers, so
     /// they stay zero where the kernel no longer writes), and recompute the integrals.
-    pub(crate) fn zero_columns(&mut self, lat: &Lattice, fibers: &Fibers, cols: &[bool]) {
-        assert_eq!(cols.len(), lat.nx);
-        for j in 0..lat.ny {
-            let row = j * lat.nx..(j + 1) * lat.nx;
-            for (i, _) in cols.iter().enumerate().filter(|(_, &c)| c) {
-                self.phi[row.start + i] = T::default();
-                self.p[row.start + i] = T::default();
-                self.next[row.start + i] = T::default();
-            }
+    pub(crate) fn zero_sites(&mut self, lat: &Lattice, fibers: &Fibers, drop: &[bool]) {
+        assert_eq!(drop.len(), lat.len());
+        for (s, _) in drop.iter().enumerate().filter(|(_, &d)| d) {
+            self.phi[s] = T::default();
+            self.p[s] = T::default();
+            self.next[s] = T::default();
         }
         self.sums = Sums::of(lat, fibers, &self.phi);
     }
@@ -134,14 +131,14 @@ pub fn step_pair<T: Real>(
 /// [`step_pair`] with each cell computed only in its columns `spans` (its window: see
 /// `crate::patch`); phi and P must be zero outside them.
 #[allow(clippy::too_many_arguments)]
-pub fn step_pair_in<T: Real>(
+pub fn step_pair_in<'s, T: Real>(
     a: &mut Cell<T>,
     b: &mut Cell<T>,
     lat: &Lattice,
     fibers: &Fibers,
     params: &Params,
     noise: [[f64; 2]; 2],
-    spans: [&[Span]; 2],
+    spans: [impl Into<RowSpans<'s>>; 2],
     parallel: bool,
 ) {
     let ka = a.coeffs(params, noise[0], true);

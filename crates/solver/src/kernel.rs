@@ -279,6 +279,48 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
 /// chain (with one vector of accumulators the sums took an eighth of the step).
 const LANES: usize = 32;
 
+/// The spans of every row of a step: the same in every row, or each row its own (the
+/// collision's per-row windows, `crate::patch`).
+#[derive(Debug, Clone, Copy)]
+pub enum RowSpans<'a> {
+    Uniform(&'a [Span]),
+    /// Row j's spans are `spans[offsets[j]..offsets[j + 1]]`.
+    PerRow {
+        offsets: &'a [usize],
+        spans: &'a [Span],
+    },
+}
+
+impl<'a> From<&'a [Span]> for RowSpans<'a> {
+    fn from(spans: &'a [Span]) -> Self {
+        RowSpans::Uniform(spans)
+    }
+}
+
+impl<'a, const N: usize> From<&'a [Span; N]> for RowSpans<'a> {
+    fn from(spans: &'a [Span; N]) -> Self {
+        RowSpans::Uniform(spans)
+    }
+}
+
+impl<'a> RowSpans<'a> {
+    /// The spans of row `j`.
+    #[inline(always)]
+    pub fn row(&self, j: usize) -> &'a [Span] {
+        match *self {
+            RowSpans::Uniform(s) => s,
+            RowSpans::PerRow { offsets, spans } => &spans[offsets[j]..offsets[j + 1]],
+        }
+    }
+
+    pub(crate) fn all(&self) -> &'a [Span] {
+        match *self {
+            RowSpans::Uniform(s) => s,
+            RowSpans::PerRow { spans, .. } => spans,
+        }
+    }
+}
+
 /// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, the second only if
 /// `FIBER`: element k of a span goes to accumulator k mod `LANES`, span after span, and the
 /// accumulators are added up once per row. (Plain loops, not closures: closures do not inherit
@@ -507,7 +549,7 @@ fn step_body<T: Real>(
     first: usize,
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: RowSpans,
     out: &mut [T],
 ) -> Partial {
     let rows = p.len() / nx;
@@ -532,7 +574,8 @@ fn step_body<T: Real>(
         // P acts only where chi = 1; elsewhere it is advanced only if asked for.
         let pol = fiber || k.polarity_everywhere;
         let acc = &mut acc_t[..];
-        for sp in spans {
+        let row_spans = spans.row(j);
+        for sp in row_spans {
             let pair = sp.pair && other.is_some();
             let (lo, hi) = (sp.lo, sp.hi);
             match (fiber, pair, pol) {
@@ -556,7 +599,7 @@ fn step_body<T: Real>(
                 }
             }
         }
-        part.row_done(fibers, j, r, rows, o, spans, &mut acc_t);
+        part.row_done(fibers, j, r, rows, o, row_spans, &mut acc_t);
     }
     part
 }
@@ -573,7 +616,7 @@ unsafe fn step_body_avx2<T: Real>(
     first: usize,
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: RowSpans,
     out: &mut [T],
 ) -> Partial {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
@@ -591,7 +634,7 @@ unsafe fn step_body_avx512<T: Real>(
     first: usize,
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: RowSpans,
     out: &mut [T],
 ) -> Partial {
     step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
@@ -654,7 +697,7 @@ fn step_with<T: Real>(
     phi: &[T],
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: RowSpans,
     out: &mut [T],
     parallel: bool,
 ) -> Sums {
@@ -665,7 +708,10 @@ fn step_with<T: Real>(
         assert_eq!(q.len(), lat.len());
     }
     let (nx, ny) = (lat.nx, lat.ny);
-    assert!(nx >= 2 && spans.iter().all(|s| s.lo < s.hi && s.hi <= nx));
+    assert!(nx >= 2 && spans.all().iter().all(|s| s.lo < s.hi && s.hi <= nx));
+    if let RowSpans::PerRow { offsets, .. } = spans {
+        assert_eq!(offsets.len(), ny + 1);
+    }
     let run = |first: usize, p: &mut [T], out: &mut [T]| match isa {
         // SAFETY: `isa()` checked that this CPU runs these instructions.
         #[cfg(target_arch = "x86_64")]
@@ -704,38 +750,50 @@ pub fn step_cell<T: Real>(
     parallel: bool,
 ) -> Sums {
     let full = [Span::full(lat.nx, other.is_some())];
-    step_with(isa(), lat, fibers, k, phi, p, other, &full, out, parallel)
+    let spans = RowSpans::Uniform(&full);
+    step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
 }
 
 /// [`step_cell`] restricted to the columns `spans` of every row (a cell's window: see
 /// `crate::patch`). Columns outside are neither read as centres nor written: the caller keeps
 /// phi and P exactly zero there, in `phi`, `p` and `out` alike, and the sums cover the spans.
 #[allow(clippy::too_many_arguments)]
-pub fn step_cell_in<T: Real>(
+pub fn step_cell_in<'s, T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
     k: &StepCoeffs<T>,
     phi: &[T],
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: impl Into<RowSpans<'s>>,
     out: &mut [T],
     parallel: bool,
 ) -> Sums {
-    step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
+    step_with(
+        isa(),
+        lat,
+        fibers,
+        k,
+        phi,
+        p,
+        other,
+        spans.into(),
+        out,
+        parallel,
+    )
 }
 
 /// The portable path of [`step_cell_in`], for tests that compare it with the dispatched one.
 #[doc(hidden)]
 #[allow(clippy::too_many_arguments)]
-pub fn step_cell_portable_in<T: Real>(
+pub fn step_cell_portable_in<'s, T: Real>(
     lat: &Lattice,
     fibers: &Fibers,
     k: &StepCoeffs<T>,
     phi: &[T],
     p: &mut [T],
     other: Option<&[T]>,
-    spans: &[Span],
+    spans: impl Into<RowSpans<'s>>,
     out: &mut [T],
 ) -> Sums {
     step_with(
@@ -746,7 +804,7 @@ pub fn step_cell_portable_in<T: Real>(
         phi,
         p,
         other,
-        spans,
+        spans.into(),
         out,
         false,
     )
@@ -772,7 +830,7 @@ pub fn step_cell_portable<T: Real>(
         phi,
         p,
         other,
-        &full,
+        RowSpans::Uniform(&full),
         out,
         false,
     )

@@ -1,29 +1,33 @@
 //! Per-cell moving windows ("patches") for the collision stage.
 //!
-//! Each cell of the collision is computed only in a window of whole columns that follows it: the
-//! smallest periodic run of columns holding every site where |phi| or |P| reaches `bound`, widened
-//! by `pad` columns on each side. Outside its window a cell's phi and P are held at exactly zero
-//! (they were below `bound` when the window last moved off those columns), so:
+//! Each cell of the collision is computed only in a window that follows it, one run of columns
+//! per row: in row j, the smallest periodic run of columns holding every site of rows j - pad to
+//! j + pad where |phi| or |P| reaches `bound`, widened by `pad` columns on each side. Outside its
+//! window a cell's phi and P are held at exactly zero (they were below `bound` when the window
+//! last moved off those sites), so:
 //!
 //! - the stencil at the window's edge reads zeros, as if the cell's tail ended there;
 //! - where the *other* cell's window does not reach, the pair terms (which carry phi_j^2) vanish
 //!   exactly, and the kernel skips them;
 //! - observables summed over the whole lattice (centroids, overlap) need no change.
 //!
-//! Windows span the full height: at the paper's fiber spacings the cell body reaches within about
-//! 40 rows of the lattice's top and bottom, and its tail (phi ~ exp(-r/d), d = sqrt(20)) is
-//! above 1e-9 out to about 90 sites from the 0.5 contour.
+//! At the paper's size and bound 1e-8 every row has a window: the tail of phi decays only like
+//! exp(-r/6) (slower than exp(-r/d): the area term, which pushes a cell a little smaller than
+//! pi R0^2 to grow, slows the decay), so it reaches 1e-8 some 110 sites from the 0.5 contour. The
+//! rows differ in width, though: the rows of the fibers, along which the cell spreads, are the
+//! widest, and per-row windows cover about a fifth less than one run of columns for all rows.
 //!
-//! The leak check runs every `check_every` steps: if |phi| or |P| on a window's first or last
-//! column has reached `bound`, both windows are refitted at once (growing the one that leaked)
-//! and the event is counted; nothing is ever cut off above `bound`. Every `refit_every` steps the
-//! windows are refitted anyway, so they follow the cells and shrink behind them.
+//! The leak check runs every `check_every` steps: if |phi| or |P| on the boundary of a cell's
+//! windows (a row's first or last column, or a site whose row above or below has no window
+//! there) has reached `bound`, both cells are refitted at once (growing what leaked) and the
+//! event is counted; nothing is ever cut off above `bound`. Every `refit_every` steps the windows
+//! are refitted anyway, so they follow the cells and shrink behind them.
 
 use serde::{Deserialize, Serialize};
 
 use crate::cell::Cell;
 use crate::fibers::Fibers;
-use crate::kernel::Span;
+use crate::kernel::{RowSpans, Span};
 use crate::lattice::Lattice;
 use crate::real::Real;
 
@@ -47,7 +51,7 @@ impl Default for PatchSettings {
     fn default() -> Self {
         PatchSettings {
             bound: 1e-8,
-            pad: 8,
+            pad: 2,
             check_every: 10,
             refit_every: 500,
         }
@@ -98,8 +102,36 @@ impl Window {
         Window { start: 0, len: nx }
     }
 
+    /// No column at all.
+    pub fn empty() -> Window {
+        Window { start: 0, len: 0 }
+    }
+
     pub fn is_full(&self, nx: usize) -> bool {
         self.len >= nx
+    }
+
+    /// The columns of this window that `other` lacks, as at most two runs `lo..hi` of
+    /// unwrapped columns (`hi` may exceed `nx`: take them modulo `nx`).
+    pub fn minus(&self, other: Window, nx: usize) -> [Option<(usize, usize)>; 2] {
+        if other.is_full(nx) || self.len == 0 {
+            return [None, None];
+        }
+        if other.len == 0 {
+            return [Some((self.start, self.start + self.len)), None];
+        }
+        // In this window's frame (0..len), `other`'s complement is the circular run that starts
+        // where `other` ends, nx - other.len long: cut it to 0..len, once as it is and once a
+        // lap earlier.
+        let c0 = (other.start + other.len + nx - self.start) % nx;
+        let c1 = c0 + nx - other.len;
+        let cut = |lo: usize, hi: usize| {
+            let (lo, hi) = (lo.min(self.len), hi.min(self.len));
+            (lo < hi).then_some((self.start + lo, self.start + hi))
+        };
+        let first = cut(c0, c1);
+        let second = if c1 > nx { cut(0, c1 - nx) } else { None };
+        [second, first]
     }
 
     pub fn contains(&self, i: usize, nx: usize) -> bool {
@@ -156,16 +188,21 @@ impl Window {
     }
 }
 
-/// The two cells' windows during a collision, and the kernel spans they give.
+/// The two cells' windows during a collision, row by row, and the kernel spans they give.
 #[derive(Debug, Clone)]
 pub struct Patches {
     settings: PatchSettings,
     nx: usize,
-    windows: [Window; 2],
+    ny: usize,
+    /// Each cell's window in each row.
+    windows: [Vec<Window>; 2],
+    /// Each cell's kernel spans, row after row: row j's are `spans[offsets[j]..offsets[j + 1]]`.
+    offsets: [Vec<usize>; 2],
     spans: [Vec<Span>; 2],
     stats: PatchStats,
-    /// Sum over steps of the columns computed (both cells), for `mean_fraction`.
-    column_steps: u64,
+    /// Sites computed per step (both cells), and their sum over the steps, for `mean_fraction`.
+    sites: u64,
+    site_steps: u64,
     steps: u64,
 }
 
@@ -182,33 +219,41 @@ impl Patches {
         if !settings.enabled() {
             return None;
         }
-        let nx = lat.nx;
+        let (nx, ny) = (lat.nx, lat.ny);
         let mut patches = Patches {
             settings: *settings,
             nx,
-            windows: [Window::full(nx); 2],
+            ny,
+            windows: [vec![Window::full(nx); ny], vec![Window::full(nx); ny]],
+            offsets: [Vec::new(), Vec::new()],
             spans: [Vec::new(), Vec::new()],
             stats: PatchStats::default(),
-            column_steps: 0,
+            sites: 0,
+            site_steps: 0,
             steps: 0,
         };
         patches.refit(lat, fibers, cells);
         Some(patches)
     }
 
-    /// The kernel spans of cell 1 and cell 2.
-    pub fn spans(&self) -> [&[Span]; 2] {
-        [&self.spans[0], &self.spans[1]]
+    /// The kernel spans of cell 1 and cell 2, row by row.
+    pub fn spans(&self) -> [RowSpans<'_>; 2] {
+        [0, 1].map(|k| RowSpans::PerRow {
+            offsets: &self.offsets[k],
+            spans: &self.spans[k],
+        })
     }
 
-    pub fn windows(&self) -> [Window; 2] {
-        self.windows
+    /// The windows of cell 1 and cell 2, one per row.
+    pub fn windows(&self) -> [&[Window]; 2] {
+        [&self.windows[0], &self.windows[1]]
     }
 
     pub fn stats(&self) -> PatchStats {
         let mut s = self.stats;
         if self.steps > 0 {
-            s.mean_fraction = self.column_steps as f64 / (2 * self.nx) as f64 / self.steps as f64;
+            let lattice = (2 * self.nx * self.ny) as f64;
+            s.mean_fraction = self.site_steps as f64 / lattice / self.steps as f64;
         }
         s
     }
@@ -223,18 +268,11 @@ impl Patches {
         cells: [&mut Cell<T>; 2],
     ) {
         self.steps += 1;
-        self.column_steps += (self.windows[0].len + self.windows[1].len) as u64;
+        self.site_steps += self.sites;
         let mut refit = step % self.settings.refit_every == 0;
         if step % self.settings.check_every == 0 {
-            let bound = self.settings.bound;
-            for (w, cell) in self.windows.iter().zip(cells.iter()) {
-                if w.is_full(self.nx) {
-                    continue;
-                }
-                if w.edges(self.nx)
-                    .iter()
-                    .any(|&i| column_max(lat, &cell.phi, &cell.p, i) >= bound)
-                {
+            for (k, cell) in cells.iter().enumerate() {
+                if self.leaks(k, &cell.phi, &cell.p) {
                     self.stats.edge_hits += 1;
                     refit = true;
                 }
@@ -246,52 +284,96 @@ impl Patches {
         }
     }
 
-    /// Fit both windows to the fields, zero what leaves them, rebuild the spans.
-    fn refit<T: Real>(&mut self, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell<T>; 2]) {
-        let nx = self.nx;
+    /// Whether |phi| or |P| of cell `k` reaches the bound on the boundary of its windows: on a
+    /// row's first or last column, or where the row above or below has no window.
+    fn leaks<T: Real>(&self, k: usize, phi: &[T], p: &[T]) -> bool {
+        let (nx, ny) = (self.nx, self.ny);
         let bound = self.settings.bound;
+        let hot = |i: usize, j: usize| {
+            let s = j * nx + i;
+            phi[s].to_f64().abs().max(p[s].to_f64().abs()) >= bound
+        };
+        let windows = &self.windows[k];
+        (0..ny).any(|j| {
+            let w = windows[j];
+            if w.len == 0 {
+                return false;
+            }
+            if !w.is_full(nx) && w.edges(nx).iter().any(|&i| hot(i, j)) {
+                return true;
+            }
+            [(j + 1) % ny, (j + ny - 1) % ny].iter().any(|&jj| {
+                w.minus(windows[jj], nx)
+                    .into_iter()
+                    .flatten()
+                    .any(|(lo, hi)| (lo..hi).any(|i| hot(i % nx, j)))
+            })
+        })
+    }
+
+    /// Fit every row's windows to the fields, zero what leaves them, rebuild the spans.
+    ///
+    /// A row's window covers the columns where |phi| or |P| reaches the bound in that row or
+    /// in any row within `pad` of it, widened by `pad` columns (and aligned), so its boundary
+    /// starts below the bound in both directions; a row with no such column has no window.
+    pub fn refit<T: Real>(&mut self, lat: &Lattice, fibers: &Fibers, cells: [&mut Cell<T>; 2]) {
+        let (nx, ny) = (self.nx, self.ny);
+        let (bound, pad) = (self.settings.bound, self.settings.pad);
         for (k, cell) in cells.into_iter().enumerate() {
-            let old = self.windows[k];
-            let hot: Vec<bool> = column_maxima(lat, &cell.phi, &cell.p)
-                .iter()
-                .enumerate()
-                .map(|(i, &m)| old.contains(i, nx) && m >= bound)
+            // Hot sites (inside the old windows: the rest is exactly zero).
+            let old = std::mem::take(&mut self.windows[k]);
+            let mut hot = vec![false; nx * ny];
+            for j in 0..ny {
+                for i in 0..nx {
+                    let s = j * nx + i;
+                    hot[s] = old[j].contains(i, nx)
+                        && cell.phi[s].to_f64().abs().max(cell.p[s].to_f64().abs()) >= bound;
+                }
+            }
+            // Each row's window: the hot columns of the rows within `pad`.
+            let reach = pad.min(ny / 2);
+            let new: Vec<Window> = (0..ny)
+                .map(|j| {
+                    let mut cols = vec![false; nx];
+                    for d in 0..=2 * reach {
+                        let jj = (j + ny + d - reach) % ny;
+                        for (c, &h) in cols.iter_mut().zip(&hot[jj * nx..(jj + 1) * nx]) {
+                            *c |= h;
+                        }
+                    }
+                    if cols.iter().any(|&c| c) {
+                        Window::fit(&cols, pad)
+                    } else {
+                        Window::empty()
+                    }
+                })
                 .collect();
-            let new = Window::fit(&hot, self.settings.pad);
-            let dropped: Vec<bool> = (0..nx)
-                .map(|i| old.contains(i, nx) && !new.contains(i, nx))
+            let dropped: Vec<bool> = (0..nx * ny)
+                .map(|s| {
+                    let (i, j) = (s % nx, s / nx);
+                    old[j].contains(i, nx) && !new[j].contains(i, nx)
+                })
                 .collect();
             if dropped.iter().any(|&d| d) {
-                cell.zero_columns(lat, fibers, &dropped);
+                cell.zero_sites(lat, fibers, &dropped);
             }
+            let widest = new.iter().map(|w| w.len).max().unwrap_or(0);
+            self.stats.widest = self.stats.widest.max(widest);
             self.windows[k] = new;
-            self.stats.widest = self.stats.widest.max(new.len);
         }
+        self.sites = 0;
         for k in 0..2 {
-            self.spans[k] = spans_of(nx, self.windows[k], self.windows[1 - k]);
+            let (offsets, spans) = (&mut self.offsets[k], &mut self.spans[k]);
+            offsets.clear();
+            spans.clear();
+            offsets.push(0);
+            for j in 0..ny {
+                spans.extend(spans_of(nx, self.windows[k][j], self.windows[1 - k][j]));
+                offsets.push(spans.len());
+                self.sites += self.windows[k][j].len as u64;
+            }
         }
     }
-}
-
-/// max over the rows of |phi| and |P|, for every column (one pass in memory order).
-fn column_maxima<T: Real>(lat: &Lattice, phi: &[T], p: &[T]) -> Vec<f64> {
-    let mut m = vec![0.0f64; lat.nx];
-    for (rphi, rp) in phi.chunks_exact(lat.nx).zip(p.chunks_exact(lat.nx)) {
-        for ((m, &a), &b) in m.iter_mut().zip(rphi).zip(rp) {
-            *m = m.max(a.to_f64().abs()).max(b.to_f64().abs());
-        }
-    }
-    m
-}
-
-/// max over the rows of |phi| and |P| in column `i`.
-fn column_max<T: Real>(lat: &Lattice, phi: &[T], p: &[T], i: usize) -> f64 {
-    (0..lat.ny)
-        .map(|j| {
-            let s = j * lat.nx + i;
-            phi[s].to_f64().abs().max(p[s].to_f64().abs())
-        })
-        .fold(0.0, f64::max)
 }
 
 /// The kernel spans of a cell with window `own` beside a cell with window `other`: the runs of
@@ -348,6 +430,42 @@ mod tests {
         // Unaligned: exactly the padding.
         let w = Window::fit(&hot(40, &[38, 39, 0, 1]), 3);
         assert_eq!(w, Window { start: 35, len: 10 });
+    }
+
+    #[test]
+    fn minus_is_what_one_window_has_and_the_other_lacks() {
+        let nx = 40;
+        let cols = |w: Window, o: Window| {
+            let mut v: Vec<usize> = w
+                .minus(o, nx)
+                .into_iter()
+                .flatten()
+                .flat_map(|(lo, hi)| lo..hi)
+                .map(|i| i % nx)
+                .collect();
+            v.sort();
+            v
+        };
+        let brute = |w: Window, o: Window| {
+            (0..nx)
+                .filter(|&i| w.contains(i, nx) && !o.contains(i, nx))
+                .collect::<Vec<_>>()
+        };
+        let some = [
+            Window::empty(),
+            Window::full(nx),
+            Window { start: 0, len: 10 },
+            Window { start: 35, len: 10 },
+            Window { start: 5, len: 3 },
+            Window { start: 30, len: 20 },
+            Window { start: 8, len: 30 },
+            Window { start: 12, len: 1 },
+        ];
+        for &w in &some {
+            for &o in &some {
+                assert_eq!(cols(w, o), brute(w, o), "{w:?} minus {o:?}");
+            }
+        }
     }
 
     #[test]

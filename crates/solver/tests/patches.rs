@@ -270,7 +270,13 @@ fn the_leak_check_grows_a_window_whose_edge_reaches_the_bound() {
         ..PatchSettings::default()
     };
     let mut patches = Patches::new(&settings, &lat, &fibers, [&mut a, &mut b]).unwrap();
-    let [wa, wb] = patches.windows();
+    // The fields are the same in every row, and so are the windows.
+    let row_window = |p: &Patches, k: usize| {
+        let w = p.windows()[k];
+        assert!(w.iter().all(|x| *x == w[0]));
+        w[0]
+    };
+    let (wa, wb) = (row_window(&patches, 0), row_window(&patches, 1));
     // Columns 19..=41 are above the bound; padded by 4 (15..47) and aligned to 16: 0..48.
     assert_eq!(wa, Window { start: 0, len: 48 });
     assert_eq!(wb, Window { start: 64, len: 48 });
@@ -283,23 +289,82 @@ fn the_leak_check_grows_a_window_whose_edge_reaches_the_bound() {
     // checks would): the next check sees it and grows the window past it.
     a.phi[lat.idx(47, 5)] = 2.0 * settings.bound;
     patches.after_step(settings.check_every - 1, &lat, &fibers, [&mut a, &mut b]);
-    assert_eq!(patches.windows()[0], wa, "no check between check intervals");
+    assert_eq!(
+        row_window(&patches, 0),
+        wa,
+        "no check between check intervals"
+    );
     patches.after_step(settings.check_every, &lat, &fibers, [&mut a, &mut b]);
-    let grown = patches.windows()[0];
     assert_eq!(patches.stats().edge_hits, 1);
-    assert!(grown.contains(47, lat.nx) && grown.contains(47 + settings.pad, lat.nx));
+    // Rows 5 - pad to 5 + pad grew past column 47.
+    for j in 1..=9 {
+        let grown = patches.windows()[0][j];
+        assert!(grown.contains(47, lat.nx) && grown.contains(47 + settings.pad, lat.nx));
+    }
+    assert_eq!(
+        patches.windows()[0][20],
+        wa,
+        "rows far from the leak keep their window"
+    );
     assert_eq!(
         a.phi[lat.idx(47, 5)],
         2.0 * settings.bound,
         "nothing above the bound is cut"
     );
 
-    // A refit shrinks a window only over columns that are below the bound everywhere, and
-    // leaves them exactly zero.
+    // A refit shrinks a window only over sites that are below the bound, and leaves them
+    // exactly zero.
     a.phi[lat.idx(47, 5)] = 0.0;
     a.phi[lat.idx(52, 5)] = 0.5 * settings.bound;
-    assert!(grown.contains(52, lat.nx));
+    assert!(patches.windows()[0][5].contains(52, lat.nx));
     patches.after_step(settings.refit_every, &lat, &fibers, [&mut a, &mut b]);
-    assert_eq!(patches.windows()[0], wa);
+    assert_eq!(row_window(&patches, 0), wa);
     assert_eq!(a.phi[lat.idx(52, 5)], 0.0);
+}
+
+#[test]
+fn rows_far_from_a_cell_have_no_window_and_the_leak_check_watches_them() {
+    let lat = Lattice::new(128, 64);
+    let params = Params {
+        L: 10,
+        R0: 8.0,
+        ..Params::default()
+    };
+    let fibers = Fibers::new(&params, lat.ny);
+    // A blob exp(-r / 2) around (40, 20), cut to zero beyond r = 14: rows 6..=34 are non-zero.
+    let blob = |cx: f64| {
+        let mut phi = lat.zeros();
+        for j in 0..lat.ny {
+            for i in 0..lat.nx {
+                let r = ((i as f64 - cx).powi(2) + (j as f64 - 20.0).powi(2)).sqrt();
+                phi[lat.idx(i, j)] = if r < 14.0 { (-r / 2.0).exp() } else { 0.0 };
+            }
+        }
+        phi
+    };
+    let mut a = Cell::new(&lat, &fibers, blob(40.0), lat.zeros());
+    let mut b = Cell::new(&lat, &fibers, blob(100.0), lat.zeros());
+    let settings = PatchSettings {
+        bound: 1e-3,
+        pad: 2,
+        ..PatchSettings::default()
+    };
+    let mut patches = Patches::new(&settings, &lat, &fibers, [&mut a, &mut b]).unwrap();
+    // exp(-r/2) >= 1e-3 for r <= 13.8: rows 7..=33 are hot, 5..=35 have windows (pad 2).
+    let w = patches.windows()[0];
+    for j in 0..lat.ny {
+        assert_eq!(w[j].len > 0, (5..=35).contains(&j), "row {j}: {:?}", w[j]);
+    }
+    // The narrower rows near the blob's top and bottom have narrower windows.
+    assert!(w[6].len < w[20].len);
+    let stats_sites: usize = w.iter().map(|x| x.len).sum();
+    assert!(stats_sites < 31 * 128 / 2);
+
+    // A value at the bound on row 35, column 40 (inside its window, but row 36 has no window
+    // there) is a vertical leak: the next check refits, and the rows below get windows.
+    a.phi[lat.idx(40, 35)] = 2.0 * settings.bound;
+    patches.after_step(settings.check_every, &lat, &fibers, [&mut a, &mut b]);
+    assert_eq!(patches.stats().edge_hits, 1);
+    assert!(patches.windows()[0][37].contains(40, lat.nx));
+    assert!(patches.windows()[0][36].len > 0);
 }

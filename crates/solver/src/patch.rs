@@ -323,10 +323,10 @@ impl Patches {
             // Hot sites (inside the old windows: the rest is exactly zero).
             let old = std::mem::take(&mut self.windows[k]);
             let mut hot = vec![false; nx * ny];
-            for j in 0..ny {
+            for (j, w) in old.iter().enumerate() {
                 for i in 0..nx {
                     let s = j * nx + i;
-                    hot[s] = old[j].contains(i, nx)
+                    hot[s] = w.contains(i, nx)
                         && cell.phi[s].to_f64().abs().max(cell.p[s].to_f64().abs()) >= bound;
                 }
             }

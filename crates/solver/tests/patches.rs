@@ -352,8 +352,8 @@ fn rows_far_from_a_cell_have_no_window_and_the_leak_check_watches_them() {
     let mut patches = Patches::new(&settings, &lat, &fibers, [&mut a, &mut b]).unwrap();
     // exp(-r/2) >= 1e-3 for r <= 13.8: rows 7..=33 are hot, 5..=35 have windows (pad 2).
     let w = patches.windows()[0];
-    for j in 0..lat.ny {
-        assert_eq!(w[j].len > 0, (5..=35).contains(&j), "row {j}: {:?}", w[j]);
+    for (j, wj) in w.iter().enumerate() {
+        assert_eq!(wj.len > 0, (5..=35).contains(&j), "row {j}: {wj:?}");
     }
     // The narrower rows near the blob's top and bottom have narrower windows.
     assert!(w[6].len < w[20].len);

@@ -255,8 +255,9 @@ pub struct BenchArgs {
 /// How the collision stage is computed (`simulate` and `bench`).
 #[derive(Debug, Args)]
 pub struct CollisionNumerics {
-    /// Per-cell windows in the collision: a column leaves a cell's window only while |phi| and
-    /// |P| are below this bound in all of it; 0 computes both cells on the whole lattice
+    /// Per-cell windows in the collision (one run of columns per row): a site leaves a cell's
+    /// window only while |phi| and |P| are below this bound there and nearby; 0 computes both
+    /// cells on the whole lattice
     #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
     pub patch_bound: f64,
     /// Float type of the collision stage: f64 (the reference) or f32 (faster; agrees with f64

@@ -370,8 +370,9 @@ fn lanes_sum<T: Real>(a: &[T; LANES]) -> f64 {
 const MAX_EDGE: usize = 16;
 
 /// Columns `lo..hi` of one row of the step: reads phi rows `c` (this row), `up` (j+1), `dn`
-/// (j-1), the other cell's row `pj` (ignored unless `PAIR`), updates `p` in place and writes
-/// phi(t+dt) into `out`. Neighbours wrap round the row (periodic in x).
+/// (j-1), the other cell's row `pj` (ignored unless `PAIR`), updates `p` in place (unless
+/// `POL` is false: then `p` is not touched), writes phi(t+dt) into `out` and adds its squares
+/// to the column accumulators `acc`. Neighbours wrap round the row (periodic in x).
 ///
 /// The seam columns at either end of the row, whose neighbours wrap round, run as a block of
 /// their own from a wrapped copy of the row's end: a whole vector (`T::LANES` columns) where the

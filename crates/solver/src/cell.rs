@@ -97,11 +97,10 @@ impl<T: Real> Cell<T> {
         std::mem::swap(&mut self.phi, &mut self.next);
     }
 
-    /// Set phi and P to exactly zero at the sites flagged in `drop` (in both phi buffers, so
-    /// they stay zero where the kernel no longer writes), and recompute the integrals.
-    pub(crate) fn zero_sites(&mut self, lat: &Lattice, fibers: &Fibers, drop: &[bool]) {
-        assert_eq!(drop.len(), lat.len());
-        for (s, _) in drop.iter().enumerate().filter(|(_, &d)| d) {
+    /// Set phi and P to exactly zero at the sites `drop` (in both phi buffers, so they stay
+    /// zero where the kernel no longer writes), and recompute the integrals.
+    pub(crate) fn zero_sites(&mut self, lat: &Lattice, fibers: &Fibers, drop: &[usize]) {
+        for &s in drop {
             self.phi[s] = T::default();
             self.p[s] = T::default();
             self.next[s] = T::default();

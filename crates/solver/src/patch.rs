@@ -102,6 +102,16 @@ impl Window {
         Window { start: 0, len: nx }
     }
 
+    /// The window's columns as at most two plain ranges within 0..nx.
+    pub fn ranges(&self, nx: usize) -> [std::ops::Range<usize>; 2] {
+        let end = self.start + self.len.min(nx);
+        if end <= nx {
+            [self.start..end, 0..0]
+        } else {
+            [self.start..nx, 0..end - nx]
+        }
+    }
+
     /// No column at all.
     pub fn empty() -> Window {
         Window { start: 0, len: 0 }
@@ -324,10 +334,12 @@ impl Patches {
             let old = std::mem::take(&mut self.windows[k]);
             let mut hot = vec![false; nx * ny];
             for (j, w) in old.iter().enumerate() {
-                for i in 0..nx {
-                    let s = j * nx + i;
-                    hot[s] = w.contains(i, nx)
-                        && cell.phi[s].to_f64().abs().max(cell.p[s].to_f64().abs()) >= bound;
+                for cols in w.ranges(nx) {
+                    let r = j * nx + cols.start..j * nx + cols.end;
+                    let fields = cell.phi[r.clone()].iter().zip(&cell.p[r.clone()]);
+                    for (h, (&a, &b)) in hot[r].iter_mut().zip(fields) {
+                        *h = a.to_f64().abs().max(b.to_f64().abs()) >= bound;
+                    }
                 }
             }
             // Each row's window: the hot columns of the rows within `pad`.
@@ -348,13 +360,14 @@ impl Patches {
                     }
                 })
                 .collect();
-            let dropped: Vec<bool> = (0..nx * ny)
-                .map(|s| {
-                    let (i, j) = (s % nx, s / nx);
-                    old[j].contains(i, nx) && !new[j].contains(i, nx)
-                })
-                .collect();
-            if dropped.iter().any(|&d| d) {
+            // The sites the windows leave (all below the bound): set to exactly zero.
+            let mut dropped = Vec::new();
+            for (j, (o, n)) in old.iter().zip(&new).enumerate() {
+                for (lo, hi) in o.minus(*n, nx).into_iter().flatten() {
+                    dropped.extend((lo..hi).map(|i| j * nx + i % nx));
+                }
+            }
+            if !dropped.is_empty() {
                 cell.zero_sites(lat, fibers, &dropped);
             }
             let widest = new.iter().map(|w| w.len).max().unwrap_or(0);
@@ -433,7 +446,7 @@ mod tests {
     }
 
     #[test]
-    fn minus_is_what_one_window_has_and_the_other_lacks() {
+    fn minus_and_ranges_are_the_columns_they_stand_for() {
         let nx = 40;
         let cols = |w: Window, o: Window| {
             let mut v: Vec<usize> = w
@@ -465,6 +478,13 @@ mod tests {
             for &o in &some {
                 assert_eq!(cols(w, o), brute(w, o), "{w:?} minus {o:?}");
             }
+            // And its plain ranges are exactly its columns.
+            let mut r: Vec<usize> = w.ranges(nx).into_iter().flatten().collect();
+            r.sort();
+            assert_eq!(
+                r,
+                (0..nx).filter(|&i| w.contains(i, nx)).collect::<Vec<_>>()
+            );
         }
     }
 

@@ -14,7 +14,7 @@
 //! operations to 22 (13 of them multiplications, the units this CPU runs out of first).
 //!
 //! The step runs in any [`Real`] (f64, or f32 for an opt-in collision stage; the integrals are
-//! returned in f64) and over any set of column [`Span`]s (the collision's per-cell windows,
+//! returned in f64) and over any column [`Span`]s of each row (the collision's per-cell windows,
 //! `crate::patch`; the whole row otherwise).
 
 use crate::fibers::Fibers;
@@ -97,7 +97,7 @@ impl Partial {
     ) {
         // Ad: a handful of fiber rows.
         if let Some(f) = fibers.of_row(j) {
-            self.adhesive[f as usize] += spans_sums::<T, true>(row, spans).1;
+            self.adhesive[f as usize] += adhesive_sum(row, spans);
         }
         if (r + 1) % FLUSH_ROWS == 0 || r + 1 == count {
             for sp in spans {
@@ -276,7 +276,7 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
 
 /// Number of independent accumulators in the reductions: fixed, so results do not depend on the
 /// SIMD width, and four AVX-512 vectors of f64 wide, so the additions need not wait on one FMA
-/// chain (with one vector of accumulators the sums took an eighth of the step).
+/// chain.
 const LANES: usize = 32;
 
 /// The spans of every row of a step: the same in every row, or each row its own (the
@@ -321,35 +321,28 @@ impl<'a> RowSpans<'a> {
     }
 }
 
-/// (sum phi^2, sum phi^2 (3 - 2 phi)) of the columns `spans` of one row, the second only if
-/// `FIBER`: element k of a span goes to accumulator k mod `LANES`, span after span, and the
-/// accumulators are added up once per row. (Plain loops, not closures: closures do not inherit
-/// the caller's `target_feature`s, and the FMAs would become calls.)
+/// Ad's share of one fiber row, sum phi^2 (3 - 2 phi) over its columns `spans`: element k of a
+/// span goes to accumulator k mod `LANES`, span after span, and the accumulators are added up
+/// once. (Plain loops, not closures: closures do not inherit the caller's `target_feature`s,
+/// and the FMAs would become calls.)
 #[inline(always)]
-fn spans_sums<T: Real, const FIBER: bool>(row: &[T], spans: &[Span]) -> (f64, f64) {
-    let (zero, two, three) = (T::default(), T::of(2.0), T::of(3.0));
-    let mut area = [zero; LANES];
-    let mut adh = [zero; LANES];
+fn adhesive_sum<T: Real>(row: &[T], spans: &[Span]) -> f64 {
+    let (two, three) = (T::of(2.0), T::of(3.0));
+    let mut adh = [T::default(); LANES];
     for sp in spans {
         let chunks = row[sp.lo..sp.hi].chunks_exact(LANES);
         let rest = chunks.remainder();
         for chunk in chunks {
             for l in 0..LANES {
                 let v = chunk[l];
-                area[l] = fma(v, v, area[l]);
-                if FIBER {
-                    adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
-                }
-            }
-        }
-        for (l, &v) in rest.iter().enumerate() {
-            area[l] = fma(v, v, area[l]);
-            if FIBER {
                 adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
             }
         }
+        for (l, &v) in rest.iter().enumerate() {
+            adh[l] = fma(v * v, fma(-two, v, three), adh[l]);
+        }
     }
-    (lanes_sum(&area), if FIBER { lanes_sum(&adh) } else { 0.0 })
+    lanes_sum(&adh)
 }
 
 /// The accumulators' total, added pairwise in a fixed order.
@@ -511,8 +504,9 @@ fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     }
 }
 
-/// A run of columns `lo..hi` (`0 <= lo < hi <= nx`) that a cell's step computes in every row,
-/// and whether the other cell's phi may be non-zero there. Where it is exactly zero (outside the
+/// A run of columns `lo..hi` (`0 <= lo < hi <= nx`) that a cell's step computes in a row (in
+/// every row, or in one: see [`RowSpans`]), and whether the other cell's phi may be non-zero
+/// there. Where it is exactly zero (outside the
 /// other cell's window) the pair terms vanish exactly and are skipped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Span {
@@ -755,9 +749,10 @@ pub fn step_cell<T: Real>(
     step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
 }
 
-/// [`step_cell`] restricted to the columns `spans` of every row (a cell's window: see
-/// `crate::patch`). Columns outside are neither read as centres nor written: the caller keeps
-/// phi and P exactly zero there, in `phi`, `p` and `out` alike, and the sums cover the spans.
+/// [`step_cell`] restricted to the columns `spans` of each row (the same in every row, or each
+/// row its own: a cell's window, see `crate::patch`). Sites outside are neither read as centres
+/// nor written: the caller keeps phi and P exactly zero there, in `phi`, `p` and `out` alike,
+/// and the sums cover the spans.
 #[allow(clippy::too_many_arguments)]
 pub fn step_cell_in<'s, T: Real>(
     lat: &Lattice,

@@ -36,12 +36,13 @@ use crate::real::Real;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PatchSettings {
-    /// Columns leave a cell's window only while |phi| and |P| are below this in every one of
-    /// their sites; 0 turns the windows off (every cell on the whole lattice).
+    /// Sites leave a cell's window only while |phi| and |P| are below this there and within
+    /// `pad` sites; 0 turns the windows off (every cell on the whole lattice).
     pub bound: f64,
-    /// Extra columns on each side of the columns that reach `bound`.
+    /// Extra columns on each side of a row's sites that reach `bound`, and rows above and below
+    /// them.
     pub pad: usize,
-    /// Steps between leak checks of each window's edge columns.
+    /// Steps between leak checks of the windows' boundary.
     pub check_every: u64,
     /// Steps between refits (the windows follow the cells and shrink behind them).
     pub refit_every: u64,
@@ -75,13 +76,14 @@ impl PatchSettings {
 /// What the windows did during one collision.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct PatchStats {
-    /// Leak checks that found |phi| or |P| at the bound on a window's edge (each grew it).
+    /// Leak checks that found |phi| or |P| at the bound on a cell's window boundary (each grew
+    /// it).
     pub edge_hits: u32,
     /// Refits, scheduled or caused by an edge hit.
     pub refits: u32,
-    /// Widest window of either cell (columns).
+    /// Widest row window of either cell (columns).
     pub widest: usize,
-    /// Columns computed per step, both cells together, averaged over the run, as a fraction of
+    /// Sites computed per step, both cells together, averaged over the run, as a fraction of
     /// what the full lattice costs.
     pub mean_fraction: f64,
 }

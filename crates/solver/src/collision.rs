@@ -84,14 +84,17 @@ pub fn place_pair(prep: &Prep, pair_nx: usize) -> [(Vec<f64>, Vec<f64>); 2] {
     [(phi1, p1), (phi2, p2)]
 }
 
-fn sample<T: Real>(lat: &Lattice, t: f64, a: &Cell<T>, b: &Cell<T>, x: [f64; 2]) -> Sample {
+/// The observables of both cells at time `t`; `x` (the unwrapped centroids) is left to the
+/// caller, which unwraps it from the `xbar` returned here.
+fn sample<T: Real>(lat: &Lattice, t: f64, a: &Cell<T>, b: &Cell<T>) -> Sample {
+    let ([xa, ya], [xb, yb]) = (lat.centroid(&a.phi), lat.centroid(&b.phi));
     Sample {
         t,
-        xbar: [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)],
-        x,
-        ybar: [lat.centroid_y(&a.phi), lat.centroid_y(&b.phi)],
+        xbar: [xa, xb],
+        x: [xa, xb],
+        ybar: [ya, yb],
         area: [a.sums.area, b.sums.area],
-        overlap: overlap(&a.phi, &b.phi),
+        overlap: overlap(lat.nx, &a.phi, &b.phi),
         adhesive: [a.sums.adhesive, b.sums.adhesive],
     }
 }
@@ -212,9 +215,8 @@ impl Run<'_> {
         };
         let mut patches = Patches::new(&protocol.patch, lat, fibers, [&mut a, &mut b]);
         let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
-        let mut xbar = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
-        let mut x = xbar;
-        let first = sample(lat, 0.0, &a, &b, x);
+        let first = sample(lat, 0.0, &a, &b);
+        let (mut xbar, mut x) = (first.xbar, first.x);
         let mut decision: Option<Decision> = classifier.observe(0.0, x[0], x[1], first.overlap);
         let mut at_decision: [Sums; 2] = [a.sums, b.sums];
         let mut track = vec![first];
@@ -253,12 +255,12 @@ impl Run<'_> {
                 return Err(SolverError::Diverged { time: t });
             }
             if n % steps.record_every == 0 || n == steps.collide {
-                let now = [lat.centroid_x(&a.phi), lat.centroid_x(&b.phi)];
+                let mut smp = sample(lat, t, &a, &b);
                 for c in 0..2 {
-                    x[c] += lat.wrap_dx(xbar[c], now[c]);
+                    x[c] += lat.wrap_dx(xbar[c], smp.xbar[c]);
                 }
-                xbar = now;
-                let smp = sample(lat, t, &a, &b, x);
+                xbar = smp.xbar;
+                smp.x = x;
                 if decision.is_none() {
                     decision = classifier.observe(t, x[0], x[1], smp.overlap);
                     if decision.is_some() {

@@ -46,29 +46,45 @@ impl Lattice {
         vec![0.0; self.len()]
     }
 
-    /// Centroid along x by the circular mean (Bai & Breen 2008), weights `phi`:
-    /// xbar = Nx/(2 pi) (atan2(-sum phi sin theta, -sum phi cos theta) + pi).
-    pub fn centroid_x<T: Real>(&self, phi: &[T]) -> f64 {
-        let (mut s, mut c) = (0.0, 0.0);
-        for row in phi.chunks_exact(self.nx) {
-            for ((&v, &si), &ci) in row.iter().zip(&self.sin_x).zip(&self.cos_x) {
+    /// Both centroid coordinates, [xbar, ybar], in one pass over the field (SPEC section 5,
+    /// weights `phi`):
+    /// xbar = Nx/(2 pi) (atan2(-sum phi sin theta, -sum phi cos theta) + pi) (the circular mean of
+    /// Bai & Breen 2008), ybar = sum phi y / sum phi (not periodic: cells sit mid-height).
+    ///
+    /// The field is first summed column by column, sum_j phi and sum_j phi y, element-wise over
+    /// the rows (so the compiler vectorises the pass, where one running sum per site would be a
+    /// chain of dependent additions), then the columns are combined.
+    pub fn centroid<T: Real>(&self, phi: &[T]) -> [f64; 2] {
+        let nx = self.nx;
+        let mut col = vec![0.0f64; nx];
+        let mut col_y = vec![0.0f64; nx];
+        for (j, row) in phi.chunks_exact(nx).enumerate() {
+            let y = j as f64;
+            for ((w, wy), &v) in col.iter_mut().zip(col_y.iter_mut()).zip(row) {
                 let v = v.to_f64();
-                s += v * si;
-                c += v * ci;
+                *w += v;
+                *wy += v * y;
             }
         }
-        self.nx as f64 / (2.0 * PI) * ((-s).atan2(-c) + PI)
+        let (mut s, mut c, mut w, mut wy) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..nx {
+            s += col[i] * self.sin_x[i];
+            c += col[i] * self.cos_x[i];
+            w += col[i];
+            wy += col_y[i];
+        }
+        let xbar = nx as f64 / (2.0 * PI) * ((-s).atan2(-c) + PI);
+        [xbar, wy / w]
     }
 
-    /// Centroid along y: sum phi y / sum phi (not periodic: cells sit mid-height).
+    /// Centroid along x by the circular mean (see [`Lattice::centroid`]).
+    pub fn centroid_x<T: Real>(&self, phi: &[T]) -> f64 {
+        self.centroid(phi)[0]
+    }
+
+    /// Centroid along y: sum phi y / sum phi (see [`Lattice::centroid`]).
     pub fn centroid_y<T: Real>(&self, phi: &[T]) -> f64 {
-        let (mut w, mut wy) = (0.0, 0.0);
-        for (j, row) in phi.chunks_exact(self.nx).enumerate() {
-            let r: f64 = row.iter().map(|v| v.to_f64()).sum();
-            w += r;
-            wy += r * j as f64;
-        }
-        wy / w
+        self.centroid(phi)[1]
     }
 
     /// Shortest periodic displacement from `a` to `b` along x.

@@ -41,37 +41,69 @@ impl Sums {
     /// The sums of a field, accumulated in the same order as the kernel does (so a step's
     /// returned sums are exactly `Sums::of` its new phi).
     pub fn of<T: Real>(lat: &Lattice, fibers: &Fibers, phi: &[T]) -> Sums {
+        assert_eq!(phi.len(), lat.len());
         let (nx, h) = (lat.nx, lat.ny / 2);
-        let full = [Span::full(nx, false)];
-        let half = |first: usize, rows: &[T]| {
-            let mut part = Partial::new(nx);
-            let mut acc = vec![T::default(); nx];
-            let count = rows.len() / nx;
-            for (r, row) in rows.chunks_exact(nx).enumerate() {
-                for (a, &v) in acc.iter_mut().zip(row) {
-                    *a = fma(v, v, *a);
-                }
-                part.row_done(fibers, first + r, r, count, row, &full, &mut acc);
-            }
-            part
-        };
         let (top, bottom) = phi.split_at(h * nx);
+        let half = |first: usize, rows: &[T]| match isa() {
+            // SAFETY: `isa()` checked that this CPU runs these instructions.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { sums_of_rows_avx512(nx, fibers, first, rows) },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { sums_of_rows_avx2(nx, fibers, first, rows) },
+            Isa::Portable => sums_of_rows(nx, fibers, first, rows),
+        };
         integrals([half(0, top), half(h, bottom)])
     }
 }
 
+/// What rows `first..` (`rows`, whole rows of `nx`) contribute to the integrals, in the
+/// kernel's order (see [`Sums::of`]).
+#[inline(always)]
+fn sums_of_rows<T: Real>(nx: usize, fibers: &Fibers, first: usize, rows: &[T]) -> Partial {
+    let full = [Span::full(nx, false)];
+    let mut part = Partial::new(nx);
+    let mut acc = vec![T::default(); nx];
+    let count = rows.len() / nx;
+    for (r, row) in rows.chunks_exact(nx).enumerate() {
+        for (a, &v) in acc.iter_mut().zip(row) {
+            *a = fma(v, v, *a);
+        }
+        part.row_done(fibers, first + r, r, count, row, &full, &mut acc);
+    }
+    part
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn sums_of_rows_avx2<T: Real>(
+    nx: usize,
+    fibers: &Fibers,
+    first: usize,
+    rows: &[T],
+) -> Partial {
+    sums_of_rows(nx, fibers, first, rows)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+unsafe fn sums_of_rows_avx512<T: Real>(
+    nx: usize,
+    fibers: &Fibers,
+    first: usize,
+    rows: &[T],
+) -> Partial {
+    sums_of_rows(nx, fibers, first, rows)
+}
+
 /// What a block of rows contributes to the integrals of phi(t+dt).
 struct Partial {
-    /// sum phi^2 of each column over the block's rows: FLUSH_ROWS rows at a time in the field's
-    /// precision, then added here in f64.
+    /// sum phi^2 of each column over the block's rows: `Real::FLUSH_ROWS` rows at a time in the
+    /// field's precision (all of them in f64), then added here in f64.
     columns: Vec<f64>,
     /// Adhesive area per fiber, the block's fiber rows in row order.
     adhesive: [f64; 2],
 }
-
-/// Rows whose squares are summed column by column in the field's own precision before they are
-/// added to the f64 column totals (so f32 runs do not sum a whole column in f32).
-const FLUSH_ROWS: usize = 8;
 
 impl Partial {
     fn new(nx: usize) -> Self {
@@ -99,7 +131,7 @@ impl Partial {
         if let Some(f) = fibers.of_row(j) {
             self.adhesive[f as usize] += adhesive_sum(row, spans);
         }
-        if (r + 1) % FLUSH_ROWS == 0 || r + 1 == count {
+        if (r + 1) % T::FLUSH_ROWS == 0 || r + 1 == count {
             for sp in spans {
                 let cols = self.columns[sp.lo..sp.hi].iter_mut();
                 for (c, a) in cols.zip(&mut acc[sp.lo..sp.hi]) {
@@ -549,7 +581,7 @@ fn step_body<T: Real>(
 ) -> Partial {
     let rows = p.len() / nx;
     let mut part = Partial::new(nx);
-    // The squares of up to FLUSH_ROWS rows, column by column, in T (see `Partial`).
+    // The squares of up to T::FLUSH_ROWS rows, column by column, in T (see `Partial`).
     let mut acc_t = vec![T::default(); nx];
     let fiber_on = k.fiber_on;
     for r in 0..rows {
@@ -673,9 +705,13 @@ fn isa() -> Isa {
 /// half to half, then across the columns in `LANES` accumulators and a fixed tree.
 fn integrals(halves: [Partial; 2]) -> Sums {
     let [a, b] = halves;
+    // Column i goes to accumulator i mod LANES.
     let mut lanes = [0.0f64; LANES];
-    for (i, (x, y)) in a.columns.iter().zip(&b.columns).enumerate() {
-        lanes[i % LANES] += x + y;
+    let (ca, cb) = (a.columns.chunks(LANES), b.columns.chunks(LANES));
+    for (xs, ys) in ca.zip(cb) {
+        for ((l, x), y) in lanes.iter_mut().zip(xs).zip(ys) {
+            *l += x + y;
+        }
     }
     Sums {
         area: lanes_sum(&lanes),
@@ -703,7 +739,8 @@ fn step_with<T: Real>(
         assert_eq!(q.len(), lat.len());
     }
     let (nx, ny) = (lat.nx, lat.ny);
-    assert!(nx >= 2 && spans.all().iter().all(|s| s.lo < s.hi && s.hi <= nx));
+    // Every span is checked where it is built (and sliced with bounds checks in any case).
+    debug_assert!(nx >= 2 && spans.all().iter().all(|s| s.lo < s.hi && s.hi <= nx));
     if let RowSpans::PerRow { offsets, .. } = spans {
         assert_eq!(offsets.len(), ny + 1);
     }

@@ -20,6 +20,11 @@ pub trait Real:
 {
     /// Values per AVX-512 vector: the kernel's natural block of columns.
     const LANES: usize;
+    /// Rows whose squares the step sums column by column in this type before adding them to
+    /// the f64 column totals of the area S (see `kernel::Partial`): every row of a block in
+    /// f64 (the column sums are f64 already, so there is nothing to flush), eight in f32 (so
+    /// that no long sum runs in f32).
+    const FLUSH_ROWS: usize;
     /// From f64 (rounded to nearest).
     fn of(x: f64) -> Self;
     /// To f64 (exact).
@@ -31,6 +36,7 @@ pub trait Real:
 
 impl Real for f64 {
     const LANES: usize = 8;
+    const FLUSH_ROWS: usize = usize::MAX;
     #[inline(always)]
     fn of(x: f64) -> Self {
         x
@@ -51,6 +57,7 @@ impl Real for f64 {
 
 impl Real for f32 {
     const LANES: usize = 16;
+    const FLUSH_ROWS: usize = 8;
     #[inline(always)]
     fn of(x: f64) -> Self {
         x as f32

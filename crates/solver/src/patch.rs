@@ -166,8 +166,9 @@ impl Window {
         let (mut best_start, mut best_len) = (0, 0);
         let mut run_start = 0;
         let mut run_len = 0;
-        for step in 1..=nx {
-            let i = (h0 + step) % nx;
+        let mut i = h0;
+        for _ in 0..nx {
+            i = if i + 1 == nx { 0 } else { i + 1 };
             if hot[i] {
                 if run_len > best_len {
                     (best_start, best_len) = (run_start, run_len);
@@ -394,19 +395,23 @@ impl Patches {
 /// The kernel spans of a cell with window `own` beside a cell with window `other`: the runs of
 /// `own`'s columns within 0..nx, split where `other` starts or ends.
 pub fn spans_of(nx: usize, own: Window, other: Window) -> Vec<Span> {
+    // Both windows are constant between consecutive ends of their plain ranges.
+    let mut cuts = vec![0, nx];
+    for r in own.ranges(nx).into_iter().chain(other.ranges(nx)) {
+        cuts.extend([r.start, r.end]);
+    }
+    cuts.sort_unstable();
+    cuts.dedup();
     let mut spans: Vec<Span> = Vec::new();
-    for i in 0..nx {
-        if !own.contains(i, nx) {
+    for c in cuts.windows(2) {
+        let (lo, hi) = (c[0], c[1]);
+        if !own.contains(lo, nx) {
             continue;
         }
-        let pair = other.contains(i, nx);
+        let pair = other.contains(lo, nx);
         match spans.last_mut() {
-            Some(s) if s.hi == i && s.pair == pair => s.hi = i + 1,
-            _ => spans.push(Span {
-                lo: i,
-                hi: i + 1,
-                pair,
-            }),
+            Some(s) if s.hi == lo && s.pair == pair => s.hi = hi,
+            _ => spans.push(Span { lo, hi, pair }),
         }
     }
     spans
@@ -494,6 +499,48 @@ mod tests {
     fn fit_takes_the_whole_row_when_no_gap_is_left() {
         assert!(Window::fit(&hot(20, &[0, 5, 10, 15]), 2).is_full(20));
         assert!(Window::fit(&hot(20, &[]), 2).is_full(20));
+    }
+
+    #[test]
+    fn spans_are_the_columns_of_the_window_with_the_other_windows_flag() {
+        // Column by column, as the spans stand for.
+        let brute = |nx: usize, own: Window, other: Window| {
+            let mut spans: Vec<Span> = Vec::new();
+            for i in (0..nx).filter(|&i| own.contains(i, nx)) {
+                let pair = other.contains(i, nx);
+                match spans.last_mut() {
+                    Some(s) if s.hi == i && s.pair == pair => s.hi = i + 1,
+                    _ => spans.push(Span {
+                        lo: i,
+                        hi: i + 1,
+                        pair,
+                    }),
+                }
+            }
+            spans
+        };
+        let nx = 40;
+        let some = [
+            Window::empty(),
+            Window::full(nx),
+            Window { start: 7, len: nx },
+            Window { start: 0, len: 10 },
+            Window { start: 35, len: 10 },
+            Window { start: 5, len: 3 },
+            Window { start: 30, len: 20 },
+            Window { start: 8, len: 30 },
+            Window { start: 12, len: 1 },
+            Window { start: 39, len: 1 },
+        ];
+        for &own in &some {
+            for &other in &some {
+                assert_eq!(
+                    spans_of(nx, own, other),
+                    brute(nx, own, other),
+                    "{own:?} beside {other:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -103,6 +103,10 @@ struct Partial {
     columns: Vec<f64>,
     /// Adhesive area per fiber, the block's fiber rows in row order.
     adhesive: [f64; 2],
+    /// The columns `lo..hi` that rows since the last flush added squares to (rows of a window
+    /// differ, and a row may have none: the flush must cover every row's columns, not just its
+    /// own row's).
+    pending: (usize, usize),
 }
 
 impl Partial {
@@ -110,6 +114,7 @@ impl Partial {
         Partial {
             columns: vec![0.0; nx],
             adhesive: [0.0; 2],
+            pending: (nx, 0),
         }
     }
 
@@ -131,14 +136,19 @@ impl Partial {
         if let Some(f) = fibers.of_row(j) {
             self.adhesive[f as usize] += adhesive_sum(row, spans);
         }
+        for sp in spans {
+            self.pending = (self.pending.0.min(sp.lo), self.pending.1.max(sp.hi));
+        }
         if (r + 1) % T::FLUSH_ROWS == 0 || r + 1 == count {
-            for sp in spans {
-                let cols = self.columns[sp.lo..sp.hi].iter_mut();
-                for (c, a) in cols.zip(&mut acc[sp.lo..sp.hi]) {
+            let (lo, hi) = self.pending;
+            if lo < hi {
+                let cols = self.columns[lo..hi].iter_mut();
+                for (c, a) in cols.zip(&mut acc[lo..hi]) {
                     *c += a.to_f64();
                     *a = T::default();
                 }
             }
+            self.pending = (acc.len(), 0);
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Per-cell windows ("patches") against the whole lattice: the kernel on spans, the collision at
 //! the paper's lattice size (noise-free and seeded with noise), and the leak check.
 
-use cellsweep_solver::kernel::{step_cell, step_cell_in, step_cell_portable_in, Span, StepCoeffs};
+use cellsweep_solver::kernel::{
+    step_cell, step_cell_in, step_cell_portable_in, RowSpans, Span, StepCoeffs,
+};
 use cellsweep_solver::patch::{PatchSettings, Patches, Window};
 use cellsweep_solver::{
     collide, prepare, Cell, ClassifierSettings, Collision, Fibers, Lattice, Params, Prep, Protocol,
@@ -367,4 +369,83 @@ fn rows_far_from_a_cell_have_no_window_and_the_leak_check_watches_them() {
     assert_eq!(patches.stats().edge_hits, 1);
     assert!(patches.windows()[0][37].contains(40, lat.nx));
     assert!(patches.windows()[0][36].len > 0);
+}
+
+/// Per-row spans that differ from row to row (as the collision's windows do, down to rows with
+/// no window at all, at the ends of a block of rows): the step's area and adhesive sums are
+/// exactly those of its new phi, every row's columns counted.
+#[test]
+fn per_row_spans_sum_every_row_they_compute() {
+    let lat = Lattice::new(64, 24);
+    let params = Params {
+        L: 10,
+        R0: 8.0,
+        sigma: 5.0,
+        beta: 20.0,
+        ..Params::default()
+    };
+    let fibers = Fibers::new(&params, lat.ny);
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let (mut phi, mut pol) = blob(&lat, 30.0, &mut rng);
+    // (pol and phi are cut to each row's window below.)
+    // Row j computes columns lo(j)..hi(j): wide in the middle rows, narrow or empty near the
+    // ends of each half (rows 0..12 and 12..24 are the two blocks of the step).
+    let window = |j: usize| -> Option<(usize, usize)> {
+        match j {
+            10 | 11 | 23 => None,
+            9 | 22 => Some((24, 40)),
+            _ => Some((
+                if j % 2 == 0 { 0 } else { 8 },
+                if j % 3 == 0 { 64 } else { 48 },
+            )),
+        }
+    };
+    let mut offsets = vec![0];
+    let mut spans = Vec::new();
+    for j in 0..lat.ny {
+        if let Some((lo, hi)) = window(j) {
+            spans.push(Span {
+                lo,
+                hi,
+                pair: false,
+            });
+        }
+        offsets.push(spans.len());
+        for i in 0..lat.nx {
+            if !window(j).is_some_and(|(lo, hi)| (lo..hi).contains(&i)) {
+                phi[lat.idx(i, j)] = 0.0;
+                pol[lat.idx(i, j)] = 0.0;
+            }
+        }
+    }
+    let rows = RowSpans::PerRow {
+        offsets: &offsets,
+        spans: &spans,
+    };
+    // f64, and f32 (whose squares are flushed to f64 every 8 rows).
+    check_sums_on(&lat, &fibers, &params, &phi, &pol, rows, 1e-12);
+    let to32 = |f: &[f64]| f.iter().map(|&v| v as f32).collect::<Vec<f32>>();
+    check_sums_on(&lat, &fibers, &params, &to32(&phi), &to32(&pol), rows, 1e-6);
+}
+
+fn check_sums_on<T: cellsweep_solver::Real>(
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+    phi: &[T],
+    pol: &[T],
+    rows: RowSpans,
+    tol: f64,
+) {
+    let sums = Sums::of(lat, fibers, phi);
+    let k = StepCoeffs::<T>::new(params, &sums, [0.07, -0.02], true);
+    let (mut p, mut out) = (pol.to_vec(), vec![T::default(); lat.len()]);
+    let got = step_cell_in(lat, fibers, &k, phi, &mut p, None, rows, &mut out, false);
+    let direct: f64 = out.iter().map(|v| v.to_f64() * v.to_f64()).sum();
+    assert!(
+        (got.area - direct).abs() < tol * direct,
+        "area {} against sum phi^2 = {direct}",
+        got.area
+    );
+    assert_eq!(got, Sums::of(lat, fibers, &out));
 }

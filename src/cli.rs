@@ -257,7 +257,7 @@ pub struct BenchArgs {
 pub struct CollisionNumerics {
     /// Per-cell windows in the collision (one run of columns per row): a site leaves a cell's
     /// window only while |phi| and |P| are below this bound there and nearby; 0 computes both
-    /// cells on the whole lattice; at most 1e-6 (looser windows change the results)
+    /// cells on the whole lattice
     #[arg(long, value_name = "BOUND", default_value_t = cellsweep_solver::PatchSettings::default().bound)]
     pub patch_bound: f64,
     /// Float type of the collision stage: f64 (the reference) or f32 (faster; agrees with f64

@@ -16,7 +16,7 @@
 //! [protocol]                               # optional: lattices, stage durations (tau0)
 //! single_lattice = [200, 200]
 //! collide_time = 400
-//! patch_bound = 1e-8                       # per-cell windows in the collision; 0: whole lattice; <= 1e-6
+//! patch_bound = 1e-8                       # per-cell windows in the collision; 0: whole lattice
 //! precision = "f64"                        # collision float type: "f64" (default) or "f32"
 //! [classifier]                             # optional: classifier settings
 //! sustain_window = 25

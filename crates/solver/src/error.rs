@@ -17,12 +17,6 @@ pub enum ParamError {
         value: f64,
         range: &'static str,
     },
-    #[error(
-        "patch_bound = {value:e} is too loose: the windows would cut phi's tail where it still \
-         acts on the cells (at 1e-5 a cell's area drifts by 5e-3 in 60 tau0, at 1e-4 it \
-         doubles); use at most {max:e} (default 1e-8, 0 for the whole lattice)"
-    )]
-    PatchBoundTooLoose { value: f64, max: f64 },
     #[error("fiber spacing L = {0} must be an even integer (fibers sit at Ny/2 -+ L/2)")]
     OddSpacing(u32),
     #[error("fiber spacing L = {spacing} must be at least 4 (below that the two fibers touch)")]
@@ -102,7 +96,6 @@ impl ParamError {
             ParamError::Unstable { .. } => "dt",
             ParamError::SampleNotMultiple { .. } => "t_sample",
             ParamError::PairLattice { .. } => "pair_lattice",
-            ParamError::PatchBoundTooLoose { .. } => "patch_bound",
         }
     }
 }

@@ -97,12 +97,6 @@ pub fn steps_in(name: &'static str, time: f64, dt: f64) -> Result<u64, ParamErro
     Ok(n.round() as u64)
 }
 
-/// The loosest `patch_bound` a protocol may ask for. The windows' error grows much faster
-/// than the bound: against the whole lattice at the bench point (60 tau0 of collision), the
-/// largest relative difference of a cell's area is 2e-11 at 1e-8 (the default), 1.5e-9 at 1e-7,
-/// 9e-7 at 1e-6, 5e-3 at 1e-5, 0.1 at 3e-5, and at 1e-4 the areas double.
-pub const MAX_PATCH_BOUND: f64 = 1e-6;
-
 /// Step counts of every stage, derived from a validated protocol.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct StageSteps {
@@ -160,12 +154,6 @@ impl Protocol {
             return Err(ParamError::Negative {
                 name: "patch_bound",
                 value: patch.bound,
-            });
-        }
-        if patch.bound > MAX_PATCH_BOUND {
-            return Err(ParamError::PatchBoundTooLoose {
-                value: patch.bound,
-                max: MAX_PATCH_BOUND,
             });
         }
         if patch.bound >= params.phi_min {

@@ -187,31 +187,6 @@ fn lattices_and_durations_are_checked() {
 }
 
 #[test]
-fn a_patch_bound_that_would_cut_live_tails_is_refused() {
-    let p = Params::default();
-    let with_bound = |bound: f64| {
-        let mut pr = Protocol::default();
-        pr.patch.bound = bound;
-        pr.validate(&p)
-    };
-    for ok in [0.0, 1e-10, 1e-8, 1e-6] {
-        with_bound(ok).unwrap();
-    }
-    let e = with_bound(1e-4).unwrap_err();
-    assert!(matches!(e, ParamError::PatchBoundTooLoose { .. }), "{e}");
-    assert_eq!(e.parameter(), "patch_bound");
-    let msg = e.to_string();
-    assert!(
-        msg.contains("patch_bound = 1e-4") && msg.contains("at most 1e-6"),
-        "{msg}"
-    );
-    assert!(matches!(
-        with_bound(-1e-8).unwrap_err(),
-        ParamError::Negative { .. }
-    ));
-}
-
-#[test]
 fn parameters_are_settable_by_their_spec_names() {
     let mut p = Params::default();
     for (name, v) in [

@@ -5,11 +5,12 @@
 //! S = sum phi^2 and adhesive areas Ad = sum phi^2 (3 - 2 phi) chi. No full-lattice temporaries.
 //!
 //! The loop is specialised per row (fiber row or not: chi is constant along a row) and per stage
-//! (single cell, or pair with the other cell's phi). Reductions use a fixed set of lanes, and
-//! every a*b+c the update needs is written as an explicit fused multiply-add (one rounding), so
-//! the result does not depend on the instruction set: the AVX-512 and AVX2+FMA builds of the same
-//! code, chosen at run time, are bit-identical to the portable one, which calls the correctly
-//! rounded libm `fma` (Rust never contracts a*b+c on its own). Fusing, folding the constants
+//! (single cell, or pair with the other cell's phi, with or without the cell-cell adhesion
+//! factor: at sigma = 0 it is skipped, which gives the same bits). Reductions use a fixed set
+//! of lanes, and every a*b+c the update needs is written as an explicit fused multiply-add (one
+//! rounding), so the result does not depend on the instruction set: the AVX-512 and AVX2+FMA
+//! builds of the same code, chosen at run time, are bit-identical to the portable one, which
+//! calls the correctly rounded libm `fma` (Rust never contracts a*b+c on its own). Fusing, folding the constants
 //! and grouping mu's terms as phi * (...) brought the site update from about 47 vector
 //! operations to 22 (13 of them multiplications, the units this CPU runs out of first).
 //!
@@ -184,6 +185,10 @@ pub struct StepCoeffs<T: Real = f64> {
     neg_dt_half_noise: [T; 2],
     /// Whether the fiber terms act (the motility force, or a non-zero fiber adhesion).
     fiber_on: bool,
+    /// Whether cell-cell adhesion acts (sigma != 0). Without it the pair site skips h_j^2 and
+    /// the adhesion factor, which is then exactly alpha_s: the same bits for any finite field,
+    /// two multiplications fewer.
+    adhesion_on: bool,
     /// Whether P is advanced off the fiber rows too (see [`StepCoeffs::polarity_on_fibers_only`]).
     polarity_everywhere: bool,
 }
@@ -216,6 +221,7 @@ impl<T: Real> StepCoeffs<T> {
             phi_min: T::of(p.phi_min),
             neg_dt_half_noise: [T::of(-p.dt * 0.5 * noise[0]), T::of(-p.dt * 0.5 * noise[1])],
             fiber_on: motile || neg_fiber != 0.0,
+            adhesion_on: p.sigma != 0.0,
             polarity_everywhere: true,
         }
     }
@@ -228,6 +234,14 @@ impl<T: Real> StepCoeffs<T> {
     /// them to zero, so the P field shows only the polarity that acts.
     pub fn polarity_on_fibers_only(mut self) -> Self {
         self.polarity_everywhere = false;
+        self
+    }
+
+    /// The pair terms with the adhesion factor computed even at sigma = 0, for the test that
+    /// the sigma = 0 specialisation gives the same bits.
+    #[doc(hidden)]
+    pub fn with_adhesion_term(mut self) -> Self {
+        self.adhesion_on = true;
         self
     }
 }
@@ -249,7 +263,7 @@ fn fma<T: Real>(a: T, b: T, c: T) -> T {
 /// form needed 20. `kernel_vs_spec` checks it against the term-by-term transcription.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
+fn site<T: Real, const FIBER: bool, const PAIR: bool, const ADH: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     c: T,
     e: T,
@@ -270,12 +284,14 @@ fn site<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     let q = fma(c, c - T::of(1.5), T::of(0.5));
     let mut inner = if PAIR {
         let pj2 = pj * pj;
-        let hj = pj - pj2;
-        fma(
-            q,
-            fma(k.neg_two_sigma_s, hj * hj, k.alpha_s),
-            fma(k.two_g_s, pj2, k.linear_s),
-        )
+        let exclusion = fma(k.two_g_s, pj2, k.linear_s);
+        if ADH {
+            let hj = pj - pj2;
+            fma(q, fma(k.neg_two_sigma_s, hj * hj, k.alpha_s), exclusion)
+        } else {
+            // sigma = 0: the adhesion factor is exactly alpha_s (-0 * h_j^2 + alpha_s).
+            fma(q, k.alpha_s, exclusion)
+        }
     } else {
         fma(k.alpha_s, q, k.linear_s)
     };
@@ -414,7 +430,7 @@ const MAX_EDGE: usize = 16;
 /// row and the span are whole vectors, so no scalar remainder is left; one column otherwise.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
+fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const ADH: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     c: &[T],
     up: &[T],
@@ -433,16 +449,24 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     let lanes = T::LANES;
     // Two calls with a constant `edge` each, so that the seam loops have known lengths.
     if n % lanes == 0 && n >= 4 * lanes && lo % lanes == 0 && hi % lanes == 0 {
-        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, acc, lo, hi, lanes);
+        seams_and_interior::<T, FIBER, PAIR, ADH, POL>(
+            k, c, up, dn, pj, p, out, acc, lo, hi, lanes,
+        );
     } else {
-        seams_and_interior::<T, FIBER, PAIR, POL>(k, c, up, dn, pj, p, out, acc, lo, hi, 1);
+        seams_and_interior::<T, FIBER, PAIR, ADH, POL>(k, c, up, dn, pj, p, out, acc, lo, hi, 1);
     }
 }
 
 /// [`step_span`] with seam blocks of `edge` columns (`lo`, `hi` and the row multiples of it).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
+fn seams_and_interior<
+    T: Real,
+    const FIBER: bool,
+    const PAIR: bool,
+    const ADH: bool,
+    const POL: bool,
+>(
     k: &StepCoeffs<T>,
     c: &[T],
     up: &[T],
@@ -463,7 +487,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
         let cw = &mut buf[..edge + 2];
         cw[0] = c[n - 1];
         cw[1..].copy_from_slice(&c[..=edge]);
-        flat::<T, FIBER, PAIR, POL>(
+        flat::<T, FIBER, PAIR, ADH, POL>(
             k,
             cw,
             &up[..edge],
@@ -482,7 +506,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
         let cw = &mut buf[..edge + 2];
         cw[..=edge].copy_from_slice(&c[s - 1..]);
         cw[edge + 1] = c[0];
-        flat::<T, FIBER, PAIR, POL>(
+        flat::<T, FIBER, PAIR, ADH, POL>(
             k,
             cw,
             &up[s..],
@@ -495,7 +519,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
         b = s;
     }
     if a < b {
-        flat::<T, FIBER, PAIR, POL>(
+        flat::<T, FIBER, PAIR, ADH, POL>(
             k,
             &c[a - 1..b + 1],
             &up[a..b],
@@ -513,7 +537,7 @@ fn seams_and_interior<T: Real, const FIBER: bool, const PAIR: bool, const POL: b
 /// vectorises (the accumulators are element-wise, so there is no reduction in the loop).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
+fn flat<T: Real, const FIBER: bool, const PAIR: bool, const ADH: bool, const POL: bool>(
     k: &StepCoeffs<T>,
     cw: &[T],
     up: &[T],
@@ -535,8 +559,16 @@ fn flat<T: Real, const FIBER: bool, const PAIR: bool, const POL: bool>(
     for i in 0..m {
         // P is neither read nor written where it does not act (`POL` false).
         let pi = if POL { p[i] } else { T::default() };
-        let (a, b) =
-            site::<T, FIBER, PAIR, POL>(k, cw[i + 1], cw[i + 2], cw[i], up[i], dn[i], pi, pj[i]);
+        let (a, b) = site::<T, FIBER, PAIR, ADH, POL>(
+            k,
+            cw[i + 1],
+            cw[i + 2],
+            cw[i],
+            up[i],
+            dn[i],
+            pi,
+            pj[i],
+        );
         out[i] = a;
         if POL {
             p[i] = b;
@@ -593,7 +625,7 @@ fn step_body<T: Real>(
     let mut part = Partial::new(nx);
     // The squares of up to T::FLUSH_ROWS rows, column by column, in T (see `Partial`).
     let mut acc_t = vec![T::default(); nx];
-    let fiber_on = k.fiber_on;
+    let (fiber_on, adh) = (k.fiber_on, k.adhesion_on);
     for r in 0..rows {
         let j = first + r;
         let row = |r: usize| r * nx..(r + 1) * nx;
@@ -615,24 +647,34 @@ fn step_body<T: Real>(
         for sp in row_spans {
             let pair = sp.pair && other.is_some();
             let (lo, hi) = (sp.lo, sp.hi);
-            match (fiber, pair, pol) {
-                (false, false, false) => {
-                    step_span::<T, false, false, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+            // (fiber rows always advance P; adhesion matters only with the pair terms)
+            match (fiber, pair, adh, pol) {
+                (false, false, _, false) => step_span::<T, false, false, false, false>(
+                    k, c, up, dn, pjr, pr, o, acc, lo, hi,
+                ),
+                (false, false, _, true) => {
+                    step_span::<T, false, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
-                (false, true, false) => {
-                    step_span::<T, false, true, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                (false, true, false, false) => {
+                    step_span::<T, false, true, false, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
-                (false, false, true) => {
-                    step_span::<T, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                (false, true, false, true) => {
+                    step_span::<T, false, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
-                (false, true, true) => {
-                    step_span::<T, false, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                (false, true, true, false) => {
+                    step_span::<T, false, true, true, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
-                (true, false, _) => {
-                    step_span::<T, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                (false, true, true, true) => {
+                    step_span::<T, false, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
-                (true, true, _) => {
-                    step_span::<T, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                (true, false, _, _) => {
+                    step_span::<T, true, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                }
+                (true, true, false, _) => {
+                    step_span::<T, true, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                }
+                (true, true, true, _) => {
+                    step_span::<T, true, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
                 }
             }
         }

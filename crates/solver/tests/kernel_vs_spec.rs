@@ -127,12 +127,17 @@ fn close(a: &[f64], b: &[f64], tol: f64) -> f64 {
 fn fused_step_matches_the_spec_term_by_term() {
     let lat = Lattice::new(30, 24);
     let mut rng = ChaCha8Rng::seed_from_u64(7);
-    for geometry in [Geometry::One, Geometry::Two] {
+    // sigma = 0 runs the pair sites without the adhesion factor (a specialisation).
+    for (geometry, sigma) in [
+        (Geometry::One, 5.0),
+        (Geometry::Two, 5.0),
+        (Geometry::Two, 0.0),
+    ] {
         let params = Params {
             geometry,
             L: 10,
             R0: 8.0,
-            sigma: 5.0,
+            sigma,
             beta: 20.0,
             ..Params::default()
         };
@@ -176,6 +181,19 @@ fn fused_step_matches_the_spec_term_by_term() {
                 .zip(&out2)
                 .all(|(a, b)| a.to_bits() == b.to_bits()));
             assert!(p.iter().zip(&p2).all(|(a, b)| a.to_bits() == b.to_bits()));
+
+            // At sigma = 0, skipping the adhesion factor gives the same bits as computing it.
+            if sigma == 0.0 {
+                let ka = k.with_adhesion_term();
+                let (mut p4, mut out4) = (pol.clone(), lat.zeros());
+                let got4 = step_cell(&lat, &fibers, &ka, &phi, &mut p4, other, &mut out4, false);
+                assert_eq!(got, got4);
+                assert!(out
+                    .iter()
+                    .zip(&out4)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()));
+                assert!(p.iter().zip(&p4).all(|(a, b)| a.to_bits() == b.to_bits()));
+            }
         }
     }
 }

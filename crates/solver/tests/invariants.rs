@@ -7,12 +7,8 @@ use cellsweep_solver::collision::place_pair;
 use cellsweep_solver::observables::components;
 use cellsweep_solver::prep::initial_circle;
 use cellsweep_solver::{collide, prepare, relax, Cell, Fibers, Geometry, Lattice, Silent, Verdict};
-use common::small_config;
+use common::{same_bits, small_config};
 use std::f64::consts::PI;
-
-fn bits_equal(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
-}
 
 #[test]
 fn same_seed_same_trajectory_bit_for_bit() {
@@ -20,9 +16,9 @@ fn same_seed_same_trajectory_bit_for_bit() {
     let a = prepare(&cfg.params, &cfg.protocol, 11, &mut Silent).unwrap();
     let b = prepare(&cfg.params, &cfg.protocol, 11, &mut Silent).unwrap();
     let c = prepare(&cfg.params, &cfg.protocol, 12, &mut Silent).unwrap();
-    assert!(bits_equal(&a.phi, &b.phi) && bits_equal(&a.p, &b.p));
+    assert!(same_bits(&a.phi, &b.phi) && same_bits(&a.p, &b.p));
     assert!(
-        !bits_equal(&a.phi, &c.phi),
+        !same_bits(&a.phi, &c.phi),
         "a different seed must give different noise"
     );
     // Relaxation is deterministic and seed-free.

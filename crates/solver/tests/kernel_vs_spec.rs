@@ -1,6 +1,10 @@
 //! The fused kernel against a literal, unfused transcription of SPEC section 3 (one array per
 //! term, as the spec writes it), on random fields, single-cell and pair, with noise and P.
 
+mod common;
+
+use common::{same_bits, tiny_params};
+
 use cellsweep_solver::kernel::{step_cell, step_cell_portable, StepCoeffs, Sums};
 use cellsweep_solver::{Fibers, Geometry, Lattice, Params};
 use rand::{Rng, SeedableRng};
@@ -135,11 +139,9 @@ fn fused_step_matches_the_spec_term_by_term() {
     ] {
         let params = Params {
             geometry,
-            L: 10,
-            R0: 8.0,
             sigma,
             beta: 20.0,
-            ..Params::default()
+            ..tiny_params()
         };
         let fibers = Fibers::new(&params, lat.ny);
         let reference = Reference::new(&lat, &fibers);
@@ -166,21 +168,15 @@ fn fused_step_matches_the_spec_term_by_term() {
             let (mut p3, mut out3) = (pol.clone(), lat.zeros());
             let got3 = step_cell(&lat, &fibers, &k, &phi, &mut p3, other, &mut out3, true);
             assert_eq!(got, got3);
-            assert!(out
-                .iter()
-                .zip(&out3)
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert!(p.iter().zip(&p3).all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(same_bits(&out, &out3));
+            assert!(same_bits(&p, &p3));
 
             // The dispatched (SIMD) path is bit-identical to the portable one.
             let (mut p2, mut out2) = (pol.clone(), lat.zeros());
             let got2 = step_cell_portable(&lat, &fibers, &k, &phi, &mut p2, other, &mut out2);
             assert_eq!(got, got2);
-            assert!(out
-                .iter()
-                .zip(&out2)
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert!(p.iter().zip(&p2).all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(same_bits(&out, &out2));
+            assert!(same_bits(&p, &p2));
 
             // At sigma = 0, skipping the adhesion factor gives the same bits as computing it.
             if sigma == 0.0 {
@@ -188,11 +184,8 @@ fn fused_step_matches_the_spec_term_by_term() {
                 let (mut p4, mut out4) = (pol.clone(), lat.zeros());
                 let got4 = step_cell(&lat, &fibers, &ka, &phi, &mut p4, other, &mut out4, false);
                 assert_eq!(got, got4);
-                assert!(out
-                    .iter()
-                    .zip(&out4)
-                    .all(|(a, b)| a.to_bits() == b.to_bits()));
-                assert!(p.iter().zip(&p4).all(|(a, b)| a.to_bits() == b.to_bits()));
+                assert!(same_bits(&out, &out4));
+                assert!(same_bits(&p, &p4));
             }
         }
     }

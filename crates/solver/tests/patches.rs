@@ -1,6 +1,10 @@
 //! Per-cell windows ("patches") against the whole lattice: the kernel on spans, the collision at
 //! the paper's lattice size (noise-free and seeded with noise), and the leak check.
 
+mod common;
+
+use common::{same_bits, tiny_params};
+
 use cellsweep_solver::kernel::{
     step_cell, step_cell_in, step_cell_portable_in, RowSpans, Span, StepCoeffs,
 };
@@ -33,11 +37,8 @@ fn spans_compute_exactly_what_the_whole_row_computes() {
     for nx in [64, 62] {
         let lat = Lattice::new(nx, 24);
         let params = Params {
-            L: 10,
-            R0: 8.0,
-            sigma: 5.0,
             beta: 20.0,
-            ..Params::default()
+            ..tiny_params()
         };
         let fibers = Fibers::new(&params, lat.ny);
         let mut rng = ChaCha8Rng::seed_from_u64(3);
@@ -120,14 +121,8 @@ fn spans_compute_exactly_what_the_whole_row_computes() {
             &mut out_port,
         );
         assert_eq!(s_port, s_sp);
-        assert!(out_port
-            .iter()
-            .zip(&out_sp)
-            .all(|(a, b)| a.to_bits() == b.to_bits()));
-        assert!(p_port
-            .iter()
-            .zip(&p_sp)
-            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(same_bits(&out_port, &out_sp));
+        assert!(same_bits(&p_port, &p_sp));
 
         // A window wrapping round the seam writes nothing outside itself.
         let spans = [
@@ -248,11 +243,7 @@ fn windows_match_the_whole_lattice_to_1e9_noise_free_and_with_noise() {
 #[test]
 fn the_leak_check_grows_a_window_whose_edge_reaches_the_bound() {
     let lat = Lattice::new(128, 32);
-    let params = Params {
-        L: 10,
-        R0: 8.0,
-        ..Params::default()
-    };
+    let params = tiny_params();
     let fibers = Fibers::new(&params, lat.ny);
     // Two cells as bumps exp(-|x - c| / 3), far apart; no values near the bound at first.
     let field = |c: f64| {
@@ -327,11 +318,7 @@ fn the_leak_check_grows_a_window_whose_edge_reaches_the_bound() {
 #[test]
 fn rows_far_from_a_cell_have_no_window_and_the_leak_check_watches_them() {
     let lat = Lattice::new(128, 64);
-    let params = Params {
-        L: 10,
-        R0: 8.0,
-        ..Params::default()
-    };
+    let params = tiny_params();
     let fibers = Fibers::new(&params, lat.ny);
     // A blob exp(-r / 2) around (40, 20), cut to zero beyond r = 14: rows 6..=34 are non-zero.
     let blob = |cx: f64| {
@@ -378,11 +365,8 @@ fn rows_far_from_a_cell_have_no_window_and_the_leak_check_watches_them() {
 fn per_row_spans_sum_every_row_they_compute() {
     let lat = Lattice::new(64, 24);
     let params = Params {
-        L: 10,
-        R0: 8.0,
-        sigma: 5.0,
         beta: 20.0,
-        ..Params::default()
+        ..tiny_params()
     };
     let fibers = Fibers::new(&params, lat.ny);
     let mut rng = ChaCha8Rng::seed_from_u64(9);

@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::{row_in_two, same_bits};
+
 use cellsweep_solver::cell::{step_pair, step_pair_in};
-use cellsweep_solver::kernel::Span;
 use cellsweep_solver::noise::Noise;
 use cellsweep_solver::{
     collide, prepare, Cell, ClassifierSettings, Collision, Fibers, Geometry, Lattice, Monitor,
@@ -27,10 +28,6 @@ fn kicked(lat: &Lattice, cx: f64, r: f64, dir: f64) -> (Vec<f64>, Vec<f64>) {
         }
     }
     (phi, p)
-}
-
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 #[test]
@@ -55,18 +52,7 @@ fn p_on_fiber_rows_only_gives_the_same_phi_bit_for_bit() {
         assert!(!c.polarity_everywhere());
     }
     // Whole rows, and rows in two spans (the kernel path of the collision's windows).
-    let spans = [
-        Span {
-            lo: 0,
-            hi: 32,
-            pair: true,
-        },
-        Span {
-            lo: 32,
-            hi: 128,
-            pair: true,
-        },
-    ];
+    let spans = row_in_two(32, 128);
     let mut noise = Noise::new(9, 2, params.v0, params.sample_every());
     let mut acted = false;
     for s in 0..600 {

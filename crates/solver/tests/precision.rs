@@ -3,11 +3,11 @@
 
 mod common;
 
-use cellsweep_solver::kernel::{step_cell_in, step_cell_portable_in, Span, StepCoeffs};
+use cellsweep_solver::kernel::{step_cell_in, step_cell_portable_in, StepCoeffs};
 use cellsweep_solver::{
     collide, prepare, Collision, Fibers, Geometry, Lattice, Precision, Silent, Sums,
 };
-use common::small_config;
+use common::{row_in_two, same_bits, small_config};
 use std::f64::consts::PI;
 
 #[test]
@@ -24,18 +24,7 @@ fn the_f32_kernel_gives_the_same_bits_on_every_path_and_stays_near_f64() {
     let to32 = |f: &[f64]| f.iter().map(|&v| v as f32).collect::<Vec<f32>>();
     let (phi32, p32, other32) = (to32(&phi64), to32(&p64), to32(&other64));
 
-    let spans = [
-        Span {
-            lo: 0,
-            hi: 32,
-            pair: true,
-        },
-        Span {
-            lo: 32,
-            hi: 96,
-            pair: true,
-        },
-    ];
+    let spans = row_in_two(32, 96);
     let k64 = StepCoeffs::<f64>::new(params, &Sums::of(&lat, &fibers, &phi64), [0.05, 0.02], true);
     let k32 = StepCoeffs::<f32>::new(params, &Sums::of(&lat, &fibers, &phi32), [0.05, 0.02], true);
     let (mut q64, mut out64) = (p64.clone(), lat.zeros());
@@ -74,14 +63,8 @@ fn the_f32_kernel_gives_the_same_bits_on_every_path_and_stays_near_f64() {
         &mut port32,
     );
     assert_eq!(s32, t32);
-    assert!(out32
-        .iter()
-        .zip(&port32)
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert!(q32
-        .iter()
-        .zip(&r32)
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert!(same_bits(&out32, &port32));
+    assert!(same_bits(&q32, &r32));
     // One step in f32 is f64's to f32 round-off.
     let worst = out32
         .iter()

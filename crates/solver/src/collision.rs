@@ -216,8 +216,8 @@ impl Run<'_> {
         let mut patches = Patches::new(&protocol.patch, lat, fibers, [&mut a, &mut b]);
         let mut noise = Noise::new(seed, 2, params.v0, params.sample_every());
         let first = sample(lat, 0.0, &a, &b);
-        let (mut xbar, mut x) = (first.xbar, first.x);
-        let mut decision: Option<Decision> = classifier.observe(0.0, x[0], x[1], first.overlap);
+        let mut decision: Option<Decision> =
+            classifier.observe(0.0, first.x[0], first.x[1], first.overlap);
         let mut at_decision: [Sums; 2] = [a.sums, b.sums];
         let mut track = vec![first];
 
@@ -255,14 +255,14 @@ impl Run<'_> {
                 return Err(SolverError::Diverged { time: t });
             }
             if n % steps.record_every == 0 || n == steps.collide {
+                // Unwrap the centroids from the previous sample's.
                 let mut smp = sample(lat, t, &a, &b);
+                let prev = track.last().expect("the first sample is recorded");
                 for c in 0..2 {
-                    x[c] += lat.wrap_dx(xbar[c], smp.xbar[c]);
+                    smp.x[c] = prev.x[c] + lat.wrap_dx(prev.xbar[c], smp.xbar[c]);
                 }
-                xbar = smp.xbar;
-                smp.x = x;
                 if decision.is_none() {
-                    decision = classifier.observe(t, x[0], x[1], smp.overlap);
+                    decision = classifier.observe(t, smp.x[0], smp.x[1], smp.overlap);
                     if decision.is_some() {
                         at_decision = [a.sums, b.sums];
                     }

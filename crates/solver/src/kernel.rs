@@ -647,35 +647,23 @@ fn step_body<T: Real>(
         for sp in row_spans {
             let pair = sp.pair && other.is_some();
             let (lo, hi) = (sp.lo, sp.hi);
-            // (fiber rows always advance P; adhesion matters only with the pair terms)
+            // One monomorphised loop per combination, all called with the same arguments.
+            macro_rules! span {
+                ($fiber:literal, $pair:literal, $adh:literal, $pol:literal) => {
+                    step_span::<T, $fiber, $pair, $adh, $pol>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
+                };
+            }
+            // Fiber rows always advance P; adhesion matters only with the pair terms.
             match (fiber, pair, adh, pol) {
-                (false, false, _, false) => step_span::<T, false, false, false, false>(
-                    k, c, up, dn, pjr, pr, o, acc, lo, hi,
-                ),
-                (false, false, _, true) => {
-                    step_span::<T, false, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (false, true, false, false) => {
-                    step_span::<T, false, true, false, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (false, true, false, true) => {
-                    step_span::<T, false, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (false, true, true, false) => {
-                    step_span::<T, false, true, true, false>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (false, true, true, true) => {
-                    step_span::<T, false, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (true, false, _, _) => {
-                    step_span::<T, true, false, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (true, true, false, _) => {
-                    step_span::<T, true, true, false, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
-                (true, true, true, _) => {
-                    step_span::<T, true, true, true, true>(k, c, up, dn, pjr, pr, o, acc, lo, hi)
-                }
+                (false, false, _, false) => span!(false, false, false, false),
+                (false, false, _, true) => span!(false, false, false, true),
+                (false, true, false, false) => span!(false, true, false, false),
+                (false, true, false, true) => span!(false, true, false, true),
+                (false, true, true, false) => span!(false, true, true, false),
+                (false, true, true, true) => span!(false, true, true, true),
+                (true, false, _, _) => span!(true, false, false, true),
+                (true, true, false, _) => span!(true, true, false, true),
+                (true, true, true, _) => span!(true, true, true, true),
             }
         }
         part.row_done(fibers, j, r, rows, o, row_spans, &mut acc_t);

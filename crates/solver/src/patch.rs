@@ -452,6 +452,23 @@ mod tests {
         assert_eq!(w, Window { start: 35, len: 10 });
     }
 
+    /// Windows of a row of `nx` (40 or so): empty, whole, wrapping round the seam, at either
+    /// end, one column wide.
+    fn some_windows(nx: usize) -> [Window; 10] {
+        [
+            Window::empty(),
+            Window::full(nx),
+            Window { start: 7, len: nx },
+            Window { start: 0, len: 10 },
+            Window { start: 35, len: 10 },
+            Window { start: 5, len: 3 },
+            Window { start: 30, len: 20 },
+            Window { start: 8, len: 30 },
+            Window { start: 12, len: 1 },
+            Window { start: 39, len: 1 },
+        ]
+    }
+
     #[test]
     fn minus_and_ranges_are_the_columns_they_stand_for() {
         let nx = 40;
@@ -471,16 +488,7 @@ mod tests {
                 .filter(|&i| w.contains(i, nx) && !o.contains(i, nx))
                 .collect::<Vec<_>>()
         };
-        let some = [
-            Window::empty(),
-            Window::full(nx),
-            Window { start: 0, len: 10 },
-            Window { start: 35, len: 10 },
-            Window { start: 5, len: 3 },
-            Window { start: 30, len: 20 },
-            Window { start: 8, len: 30 },
-            Window { start: 12, len: 1 },
-        ];
+        let some = some_windows(nx);
         for &w in &some {
             for &o in &some {
                 assert_eq!(cols(w, o), brute(w, o), "{w:?} minus {o:?}");
@@ -520,18 +528,7 @@ mod tests {
             spans
         };
         let nx = 40;
-        let some = [
-            Window::empty(),
-            Window::full(nx),
-            Window { start: 7, len: nx },
-            Window { start: 0, len: 10 },
-            Window { start: 35, len: 10 },
-            Window { start: 5, len: 3 },
-            Window { start: 30, len: 20 },
-            Window { start: 8, len: 30 },
-            Window { start: 12, len: 1 },
-            Window { start: 39, len: 1 },
-        ];
+        let some = some_windows(nx);
         for &own in &some {
             for &other in &some {
                 assert_eq!(

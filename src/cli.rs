@@ -30,6 +30,11 @@ pub enum Command {
     Table(TableArgs),
     /// Fit the beta_crit line beta* = a alpha~/L~ + b to the walk-past/training crossings.
     Fit(FitArgs),
+    /// Compare two result sets point by point and replicate by replicate (two sweeps that
+    /// differ only in how they are solved, such as the collision's precision, or one sweep under
+    /// two solver versions): counts, pairs that end alike, shifts in decision time, labels, and
+    /// a test of whether the outcome statistics differ.
+    Compare(CompareArgs),
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
@@ -223,6 +228,28 @@ pub struct FitArgs {
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The first sweep (A), by name.
+    pub a: String,
+    /// The second sweep (B), by name (the same name as A to compare two solver versions).
+    pub b: String,
+    /// The store of A (and of B, unless --db-b is given).
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// The store of B, when it is not A's.
+    #[arg(long = "db-b", value_name = "PATH")]
+    pub db_b: Option<std::path::PathBuf>,
+    /// Solver version of A's results (default: this build's).
+    #[arg(long = "version-a", value_name = "VERSION")]
+    pub version_a: Option<String>,
+    /// Solver version of B's results (default: this build's).
+    #[arg(long = "version-b", value_name = "VERSION")]
+    pub version_b: Option<String>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
 }
 
 #[derive(Debug, Args)]

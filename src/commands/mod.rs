@@ -1,6 +1,7 @@
 //! One module per subcommand. Each returns the process's exit code.
 
 mod bench;
+mod compare;
 mod counts;
 mod fit;
 mod model;
@@ -22,6 +23,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Status(args) => status::run(args).map(|_| 0),
         Command::Table(args) => table::run(args).map(|_| 0),
         Command::Fit(args) => fit::run(args),
+        Command::Compare(args) => compare::run(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
         Command::Submit(args) => slurm::submit(args).map(|_| 0),

@@ -6,6 +6,7 @@
 //! transaction together with its job's state change, so nothing is lost or counted twice.
 //! The schema is in [`schema::DDL`].
 
+pub mod compare;
 pub mod error;
 pub mod fit;
 pub mod lifecycle;
@@ -15,6 +16,7 @@ pub mod slurm;
 pub mod status;
 pub mod store;
 
+pub use compare::{compare, Comparison, End, EndCounts, PointComparison, Replicate, Test};
 pub use error::{Result, StoreError};
 pub use fit::{fit_line, Column, Fit, NoFit, Scales};
 pub use lifecycle::JobState;

@@ -122,7 +122,7 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
          (unstable or breakup);\n|dt|: difference in decision time of the pairs that end alike \
          (tau0); labels as in `cellsweep table`;\np: exact symmetry test of the discordant \
          pairs (McNemar's for two outcomes), or, marked *, a permutation\ntest of the counts \
-         where the replicates ran from different seeds. Small p: the statistics differ.\n"
+         where the replicates do not all match. Small p: the statistics differ.\n"
     );
     if c.only_a + c.only_b > 0 {
         println!(

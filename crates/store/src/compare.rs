@@ -6,9 +6,9 @@
 //! Replicates pair up by grid point and replicate index. A pair is *matched* when both jobs ran
 //! from the same prep seed with the same collision seed (seeds derive from the sweep seed, the
 //! point and the replicate, never from the solver version or the precision, so such a pair saw
-//! the same prepped cell and the same noise). Matched pairs are tested with an exact symmetry
-//! test of their discordant pairs; points whose replicates ran from different seeds are tested
-//! as two independent samples, with a permutation test.
+//! the same prepped cell and the same noise). A point whose replicates all match is tested with
+//! an exact symmetry test of its discordant pairs; any other point (other seeds, or replicates
+//! missing from one side) as two independent samples, with a permutation test.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -172,8 +172,8 @@ pub enum Test {
     /// Exact symmetry test of the discordant matched pairs (McNemar's exact test for two
     /// outcomes; Monte Carlo beyond 20 discordant pairs).
     Paired,
-    /// Permutation test of the chi-square statistic, for replicates that ran from different
-    /// seeds.
+    /// Permutation test of the chi-square statistic, for points whose replicates do not all
+    /// match (other seeds, or replicates missing from one side).
     Independent,
 }
 

@@ -188,8 +188,8 @@ pub struct Comparison {
     pub alike: u64,
     /// Points whose label differs.
     pub labels_differ: usize,
-    /// The paired test over every matched pair of every point at once (the statistic summed
-    /// over the points), where there are matched pairs.
+    /// The paired test over every point tested as paired, at once (the statistic summed over
+    /// the points, so that changes at two points cannot cancel); `None` when no point was.
     pub p_value_paired: Option<f64>,
 }
 
@@ -204,27 +204,26 @@ fn key(r: &Replicate) -> PointKey {
     (r.alpha.to_bits(), r.beta.to_bits(), r.L, r.sigma.to_bits())
 }
 
-/// Compare result set `a` with `b`.
-pub fn compare(a: &[Replicate], b: &[Replicate]) -> Comparison {
+/// The distinct grid points of a result set, in the order they first appear.
+fn point_keys(rs: &[Replicate]) -> Vec<PointKey> {
     let mut keys: Vec<PointKey> = Vec::new();
-    for r in a {
+    for r in rs {
         if !keys.contains(&key(r)) {
             keys.push(key(r));
         }
     }
-    let in_b = |k: &PointKey| b.iter().any(|r| key(r) == *k);
-    let only_a = keys.iter().filter(|k| !in_b(k)).count();
-    let mut keys_b: Vec<PointKey> = Vec::new();
-    for r in b {
-        if !keys_b.contains(&key(r)) {
-            keys_b.push(key(r));
-        }
-    }
-    let only_b = keys_b.iter().filter(|k| !keys.contains(k)).count();
+    keys
+}
+
+/// Compare result set `a` with `b`.
+pub fn compare(a: &[Replicate], b: &[Replicate]) -> Comparison {
+    let (keys_a, keys_b) = (point_keys(a), point_keys(b));
+    let only_a = keys_a.iter().filter(|k| !keys_b.contains(k)).count();
+    let only_b = keys_b.iter().filter(|k| !keys_a.contains(k)).count();
 
     let mut points = Vec::new();
     let mut all_discordant: Vec<Vec<(End, End)>> = Vec::new();
-    for k in keys.into_iter().filter(|k| in_b(k)) {
+    for k in keys_a.into_iter().filter(|k| keys_b.contains(k)) {
         let ra: Vec<&Replicate> = a.iter().filter(|r| key(r) == k).collect();
         let rb: Vec<&Replicate> = b.iter().filter(|r| key(r) == k).collect();
         let (p, discordant) = compare_point(&ra, &rb);

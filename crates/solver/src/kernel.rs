@@ -24,6 +24,27 @@ use crate::params::Params;
 use crate::real::Real;
 use std::f64::consts::PI;
 
+/// The AVX2+FMA and AVX-512 entry points of an `#[inline(always)]` function generic over
+/// `T: Real`: the same body compiled with the wider instruction set enabled (and called only
+/// where `isa()` found it; `unsafe` for that reason).
+macro_rules! isa_entry_points {
+    ($avx2:ident, $avx512:ident => $body:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $avx2<T: Real>($($arg: $ty),*) -> $ret {
+            $body($($arg),*)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx512f,fma")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $avx512<T: Real>($($arg: $ty),*) -> $ret {
+            $body($($arg),*)
+        }
+    };
+}
+
 /// Integrals of one cell's phi that the next step needs: S = sum phi^2 and, per fiber,
 /// Ad = sum phi^2 (3 - 2 phi) chi.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -75,27 +96,10 @@ fn sums_of_rows<T: Real>(nx: usize, fibers: &Fibers, first: usize, rows: &[T]) -
     part
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn sums_of_rows_avx2<T: Real>(
-    nx: usize,
-    fibers: &Fibers,
-    first: usize,
-    rows: &[T],
-) -> Partial {
-    sums_of_rows(nx, fibers, first, rows)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,fma")]
-unsafe fn sums_of_rows_avx512<T: Real>(
-    nx: usize,
-    fibers: &Fibers,
-    first: usize,
-    rows: &[T],
-) -> Partial {
-    sums_of_rows(nx, fibers, first, rows)
-}
+isa_entry_points!(
+    sums_of_rows_avx2,
+    sums_of_rows_avx512 => sums_of_rows(nx: usize, fibers: &Fibers, first: usize, rows: &[T]) -> Partial
+);
 
 /// What a block of rows contributes to the integrals of phi(t+dt).
 struct Partial {
@@ -370,13 +374,6 @@ impl<'a> RowSpans<'a> {
             RowSpans::PerRow { offsets, spans } => &spans[offsets[j]..offsets[j + 1]],
         }
     }
-
-    pub(crate) fn all(&self) -> &'a [Span] {
-        match *self {
-            RowSpans::Uniform(s) => s,
-            RowSpans::PerRow { spans, .. } => spans,
-        }
-    }
 }
 
 /// Ad's share of one fiber row, sum phi^2 (3 - 2 phi) over its columns `spans`: element k of a
@@ -443,7 +440,11 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const ADH: bool, cons
     hi: usize,
 ) {
     let n = c.len();
-    debug_assert!(lo < hi && hi <= n && n >= 2);
+    // An empty span would still run its seam block: refuse it (one compare per span).
+    assert!(
+        lo < hi && hi <= n && n >= 2,
+        "span {lo}..{hi} of a row of {n}"
+    );
     // One AVX-512 vector of T: 8 columns in f64, 16 in f32.
     const { assert!(T::LANES <= MAX_EDGE) };
     let lanes = T::LANES;
@@ -671,41 +672,21 @@ fn step_body<T: Real>(
     part
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn step_body_avx2<T: Real>(
-    nx: usize,
-    ny: usize,
-    fibers: &Fibers,
-    k: &StepCoeffs<T>,
-    phi: &[T],
-    first: usize,
-    p: &mut [T],
-    other: Option<&[T]>,
-    spans: RowSpans,
-    out: &mut [T],
-) -> Partial {
-    step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn step_body_avx512<T: Real>(
-    nx: usize,
-    ny: usize,
-    fibers: &Fibers,
-    k: &StepCoeffs<T>,
-    phi: &[T],
-    first: usize,
-    p: &mut [T],
-    other: Option<&[T]>,
-    spans: RowSpans,
-    out: &mut [T],
-) -> Partial {
-    step_body(nx, ny, fibers, k, phi, first, p, other, spans, out)
-}
+isa_entry_points!(
+    step_body_avx2,
+    step_body_avx512 => step_body(
+        nx: usize,
+        ny: usize,
+        fibers: &Fibers,
+        k: &StepCoeffs<T>,
+        phi: &[T],
+        first: usize,
+        p: &mut [T],
+        other: Option<&[T]>,
+        spans: RowSpans,
+        out: &mut [T]
+    ) -> Partial
+);
 
 /// The instruction sets the kernel is built for; every one gives the same bits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -779,8 +760,7 @@ fn step_with<T: Real>(
         assert_eq!(q.len(), lat.len());
     }
     let (nx, ny) = (lat.nx, lat.ny);
-    // Every span is checked where it is built (and sliced with bounds checks in any case).
-    debug_assert!(nx >= 2 && spans.all().iter().all(|s| s.lo < s.hi && s.hi <= nx));
+    // Every span is checked as it runs (`step_span`).
     if let RowSpans::PerRow { offsets, .. } = spans {
         assert_eq!(offsets.len(), ny + 1);
     }

@@ -3,6 +3,7 @@
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
+use crate::compare::End;
 use crate::error::Result;
 use crate::store::Store;
 
@@ -34,13 +35,14 @@ pub struct OutcomeCounts {
 
 impl OutcomeCounts {
     fn add(&mut self, verdict: &str, outcome: Option<&str>, n: i64) {
-        let slot = match (verdict, outcome) {
-            (_, Some("train")) => &mut self.train,
-            (_, Some("walk_past")) => &mut self.walk_past,
-            (_, Some("reversal")) => &mut self.reversal,
-            (_, Some("undetermined")) => &mut self.undetermined,
-            ("unstable", _) => &mut self.unstable,
-            _ => &mut self.breakup,
+        // The schema admits no other pair; anything else would be a broken prep, counted so.
+        let slot = match End::of(verdict, outcome).unwrap_or(End::Breakup) {
+            End::Train => &mut self.train,
+            End::WalkPast => &mut self.walk_past,
+            End::Reversal => &mut self.reversal,
+            End::Undetermined => &mut self.undetermined,
+            End::Unstable => &mut self.unstable,
+            End::Breakup => &mut self.breakup,
         };
         *slot += n;
     }

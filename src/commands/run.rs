@@ -33,6 +33,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         "{} sweep {:?}: {} points x {} replicates = {} jobs, {} preps, in {}",
         if reg.created {
             "registered"
+        } else if reg.grown_from.is_some() {
+            "grew"
         } else {
             "resuming"
         },
@@ -43,6 +45,13 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         new.preps.len(),
         args.db.db.display()
     );
+
+    if let Some(from) = reg.grown_from {
+        println!(
+            "  from {from} replicates per point: the results already stored are kept, and only the \
+             new replicates run (a replicate's seed depends on its index, not on the count)"
+        );
+    }
 
     let workers = args
         .workers

@@ -74,6 +74,12 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
     }
     let mut store = Store::open_or_create(&args.db.db)?;
     let reg = store.register(&new, args.replace)?;
+    if let Some(from) = reg.grown_from {
+        println!(
+            "sweep {:?} grew from {from} to {} replicates per point; the results already stored are kept",
+            sweep.name, sweep.replicates
+        );
+    }
     // Resubmitting: first take in what finished, and refuse while earlier arrays still run.
     collect_sweep(&mut store, reg.sweep_id, &sweep.name)?;
     let ids: Vec<String> = store

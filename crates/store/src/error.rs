@@ -22,6 +22,16 @@ pub enum StoreError {
          --replace to keep the old one's results under {archived:?} and register this one"
     )]
     SweepConflict { name: String, archived: String },
+    #[error(
+        "sweep {name:?} is registered with {stored} replicates per point and the file asks for \
+         {asked}: a sweep can grow but not shrink (its results stay); ask for {stored} or more, \
+         or give the smaller sweep another name"
+    )]
+    SweepShrinks {
+        name: String,
+        stored: u32,
+        asked: u32,
+    },
     #[error("no sweep named {0:?} in the store")]
     UnknownSweep(String),
     #[error("{what} {id} is {found}, not {expected} (the store refuses the transition)")]

@@ -87,6 +87,8 @@ pub struct Registration {
     pub sweep_id: i64,
     /// The sweep was new.
     pub created: bool,
+    /// The sweep was registered with this many replicates per point and now has more.
+    pub grown_from: Option<u32>,
     /// An older sweep of the same name was archived under this name (`--replace`).
     pub archived_as: Option<String>,
     /// Results of this sweep under other solver versions: (version, count). They stay apart.
@@ -278,24 +280,46 @@ impl Store {
             )
             .optional()?;
         let mut archived_as = None;
+        let mut grown_from = None;
         let (sweep_id, created) = match existing {
-            Some((id, spec)) if spec == sweep.spec => (id, false),
-            Some((id, _)) => {
-                let archived = format!("{}@{}", sweep.name, id);
-                if !replace {
-                    return Err(StoreError::SweepConflict {
-                        name: sweep.name.clone(),
-                        archived,
+            None => (insert_sweep(&tx, sweep)?, true),
+            Some((id, spec)) => match spec_change(&spec, &sweep.spec) {
+                SpecChange::Same => (id, false),
+                SpecChange::Grows { from } => {
+                    // Replicate r's seed and prep do not depend on how many replicates there
+                    // are: the stored jobs are the first `from` of the grown sweep, and the
+                    // loop below adds the others.
+                    tx.execute(
+                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                        params![sweep.spec, sweep.source, id],
+                    )?;
+                    grown_from = Some(from);
+                    (id, false)
+                }
+                change if !replace => {
+                    let name = sweep.name.clone();
+                    return Err(match change {
+                        SpecChange::Shrinks { from, to } => StoreError::SweepShrinks {
+                            name,
+                            stored: from,
+                            asked: to,
+                        },
+                        _ => StoreError::SweepConflict {
+                            archived: format!("{name}@{id}"),
+                            name,
+                        },
                     });
                 }
-                tx.execute(
-                    "UPDATE sweeps SET name = ?1 WHERE id = ?2",
-                    params![archived, id],
-                )?;
-                archived_as = Some(archived);
-                (insert_sweep(&tx, sweep)?, true)
-            }
-            None => (insert_sweep(&tx, sweep)?, true),
+                _ => {
+                    let archived = format!("{}@{}", sweep.name, id);
+                    tx.execute(
+                        "UPDATE sweeps SET name = ?1 WHERE id = ?2",
+                        params![archived, id],
+                    )?;
+                    archived_as = Some(archived);
+                    (insert_sweep(&tx, sweep)?, true)
+                }
+            },
         };
         if created {
             for (idx, pt) in sweep.points.iter().enumerate() {
@@ -361,6 +385,7 @@ impl Store {
         Ok(Registration {
             sweep_id,
             created,
+            grown_from,
             archived_as,
             other_versions,
         })
@@ -634,6 +659,45 @@ impl Store {
                 format!("its prep failed: {error}")
             ],
         )?)
+    }
+}
+
+/// How a new definition of a registered sweep differs from the stored one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SpecChange {
+    Same,
+    /// Only `replicates` differs, and it is larger.
+    Grows {
+        from: u32,
+    },
+    /// Only `replicates` differs, and it is smaller.
+    Shrinks {
+        from: u32,
+        to: u32,
+    },
+    /// Anything else: a different sweep.
+    Other,
+}
+
+/// Compare two canonical sweep definitions. `replicates` is the one key that may change under
+/// the same name: growing it only adds jobs, since a replicate's seed and prep depend on its
+/// index, never on the count (SPEC section 6).
+fn spec_change(stored: &str, new: &str) -> SpecChange {
+    if stored == new {
+        return SpecChange::Same;
+    }
+    let split = |text: &str| -> Option<(u32, serde_json::Value)> {
+        let mut v: serde_json::Value = serde_json::from_str(text).ok()?;
+        let n = v.as_object_mut()?.remove("replicates")?.as_u64()?;
+        Some((u32::try_from(n).ok()?, v))
+    };
+    match (split(stored), split(new)) {
+        (Some((from, a)), Some((to, b))) if a == b => match to.cmp(&from) {
+            std::cmp::Ordering::Greater => SpecChange::Grows { from },
+            std::cmp::Ordering::Less => SpecChange::Shrinks { from, to },
+            std::cmp::Ordering::Equal => SpecChange::Same,
+        },
+        _ => SpecChange::Other,
     }
 }
 

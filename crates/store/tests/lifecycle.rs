@@ -13,6 +13,11 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn sweep(spec: &str, version: &str) -> NewSweep {
+    sweep_of(spec, version, 3)
+}
+
+/// A one-point sweep with `replicates` jobs whose seeds depend on the replicate index only.
+fn sweep_of(spec: &str, version: &str, replicates: u32) -> NewSweep {
     NewSweep {
         name: "s".into(),
         spec: spec.into(),
@@ -29,7 +34,7 @@ fn sweep(spec: &str, version: &str) -> NewSweep {
             spacing: 90,
             sigma: 5.0,
             config: "{}".into(),
-            jobs: (0..3)
+            jobs: (0..replicates)
                 .map(|r| NewJob {
                     replicate: r,
                     seed: 1000 + r as u64,
@@ -184,4 +189,62 @@ fn sweeps_and_solver_versions_stay_apart() {
     let archived = r.archived_as.unwrap();
     let old = store.sweep_id(&archived).unwrap();
     assert_eq!(store.point_counts(old, "v1").unwrap()[0].outcomes.train, 1);
+}
+
+#[test]
+fn a_sweep_grows_its_replicates_but_never_shrinks() {
+    let path = tmp("grow");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let spec = |n: u32| format!("{{\"name\":\"s\",\"replicates\":{n},\"seed\":7}}");
+    let a = store.register(&sweep_of(&spec(3), "v1", 3), false).unwrap();
+    assert_eq!(a.grown_from, None);
+    let jobs = store.pending_jobs(a.sweep_id, "v1").unwrap();
+    for j in &jobs[..2] {
+        store.claim_job(j.id).unwrap();
+        store.commit_result(j.id, "v1", &record("train")).unwrap();
+    }
+
+    // 3 -> 5: the same sweep, its two results kept, and only replicates 3 and 4 added.
+    let g = store.register(&sweep_of(&spec(5), "v1", 5), false).unwrap();
+    assert_eq!(
+        (g.sweep_id, g.created, g.grown_from),
+        (a.sweep_id, false, Some(3))
+    );
+    assert!(g.archived_as.is_none());
+    let pending = store.pending_jobs(a.sweep_id, "v1").unwrap();
+    let mut seeds: Vec<u64> = pending.iter().map(|j| j.seed).collect();
+    seeds.sort_unstable();
+    assert_eq!(seeds, vec![1002, 1003, 1004]);
+    let st = &store.status().unwrap()[0];
+    assert_eq!((st.jobs.done, st.jobs.pending), (2, 3));
+    assert_eq!(st.outcomes.train, 2);
+    // Registering the grown definition again is a plain resume.
+    let again = store.register(&sweep_of(&spec(5), "v1", 5), false).unwrap();
+    assert_eq!((again.created, again.grown_from), (false, None));
+
+    // 5 -> 4: refused, naming both counts, and nothing changes.
+    let e = store
+        .register(&sweep_of(&spec(4), "v1", 4), false)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            StoreError::SweepShrinks {
+                stored: 5,
+                asked: 4,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("grow but not shrink"), "{e}");
+    let st = &store.status().unwrap()[0];
+    assert_eq!((st.jobs.done, st.jobs.pending), (2, 3));
+
+    // Growing and changing anything else is another sweep: a conflict, as before.
+    let other = r#"{"name":"s","replicates":6,"seed":8}"#;
+    let e = store
+        .register(&sweep_of(other, "v1", 6), false)
+        .unwrap_err();
+    assert!(matches!(e, StoreError::SweepConflict { .. }), "{e}");
 }

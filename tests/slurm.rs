@@ -41,11 +41,15 @@ fn workdir(name: &str) -> PathBuf {
 }
 
 fn write_sweep(dir: &Path, name: &str) -> PathBuf {
+    write_sweep_of(dir, name, 2)
+}
+
+fn write_sweep_of(dir: &Path, name: &str, replicates: u32) -> PathBuf {
     let path = dir.join("s.toml");
     std::fs::write(
         &path,
         format!(
-            "name = \"{name}\"\nseed = 3\nreplicates = 2\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\nL = [48]\nsigma = [5, 0]\n\
+            "name = \"{name}\"\nseed = 3\nreplicates = {replicates}\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\nL = [48]\nsigma = [5, 0]\n\
              [params]\nR0 = 24\n[protocol]\nsingle_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = 2\n"
         ),
     )
@@ -240,6 +244,44 @@ fn a_cancelled_task_is_repaired_by_submitting_again() {
     assert!(cellsweep(&dir, &["collect", "--db", "r.sqlite"])
         .status
         .success());
+    assert_each_job_counted_once(&db);
+}
+
+#[test]
+fn a_sweep_grown_after_its_arrays_ran_submits_only_the_new_replicates() {
+    slurm_up();
+    let dir = workdir("grow");
+    let db = dir.join("r.sqlite");
+    let submit = || {
+        let out = cellsweep(
+            &dir,
+            &["submit", "s.toml", "--backend", "slurm", "--db", "r.sqlite"],
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let ids = slurm_ids(&out.stdout);
+        wait_for(&ids);
+        let c = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+        assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    write_sweep_of(&dir, "slurm-grow", 1);
+    submit();
+    assert_eq!(db_count(&db, "SELECT COUNT(*) FROM results"), 4);
+
+    write_sweep_of(&dir, "slurm-grow", 2);
+    let text = submit();
+    assert!(
+        text.contains("grew from 1 to 2 replicates per point"),
+        "{text}"
+    );
+    assert!(
+        text.contains("0 preps in 0 array tasks, 4 collisions"),
+        "{text}"
+    );
     assert_each_job_counted_once(&db);
 }
 

@@ -593,6 +593,9 @@ fn a_sweep_grows_its_replicates_in_place_and_refuses_to_shrink() {
         (v["matched"].as_u64(), v["alike"].as_u64()),
         (Some(8), Some(8))
     );
+    for p in v["points"].as_array().unwrap() {
+        assert!(p["decision_shift_max"].is_null() || p["decision_shift_max"] == 0.0);
+    }
 
     // Shrinking: one line naming both counts, and the store untouched.
     write_sweep(&dir, "g", 1, 2.0);

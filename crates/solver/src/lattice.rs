@@ -49,7 +49,8 @@ impl Lattice {
     /// Both centroid coordinates, [xbar, ybar], in one pass over the field (SPEC section 5,
     /// weights `phi`):
     /// xbar = Nx/(2 pi) (atan2(-sum phi sin theta, -sum phi cos theta) + pi) (the circular mean of
-    /// Bai & Breen 2008), ybar = sum phi y / sum phi (not periodic: cells sit mid-height).
+    /// Bai & Breen 2008), reported in [0, Nx) (the formula's Nx is column 0), ybar = sum phi y /
+    /// sum phi (not periodic: cells sit mid-height).
     ///
     /// The field is first summed column by column, sum_j phi and sum_j phi y, element-wise over
     /// the rows (so the compiler vectorises the pass, where one running sum per site would be a
@@ -74,6 +75,8 @@ impl Lattice {
             wy += col_y[i];
         }
         let xbar = nx as f64 / (2.0 * PI) * ((-s).atan2(-c) + PI);
+        // The formula gives (0, Nx]; Nx is column 0, reported as 0 so that xbar lies in [0, Nx).
+        let xbar = if xbar >= nx as f64 { 0.0 } else { xbar };
         [xbar, wy / w]
     }
 

@@ -46,8 +46,11 @@ fn the_centroid_follows_a_cell_across_the_periodic_seam() {
             lat.wrap_dx(x0, x).abs() < 1e-6,
             "blob at {x0}: centroid {x}"
         );
-        // The SPEC formula maps into (0, Nx]: Nx and 0 are the same column.
-        assert!((0.0..=80.0).contains(&x));
+        // SPEC: the formula maps into (0, Nx]; Nx is reported as 0, so x lies in [0, Nx).
+        assert!(
+            (0.0..80.0).contains(&x),
+            "blob at {x0}: centroid {x} outside [0, 80)"
+        );
     }
     // A naive mean would put a blob straddling the seam at mid-lattice.
     let phi = blob(&lat, 0.0);

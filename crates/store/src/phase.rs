@@ -10,7 +10,8 @@ pub enum Label {
     WalkPast,
     Reversal,
     Undetermined,
-    /// Neither walk-past nor training dominant, and they differ by less than 10% of replicates.
+    /// Neither walk-past nor training dominant, they differ by less than 10% of replicates, and
+    /// together they are at least half of them.
     Coexist,
     /// The prepped cell let go of a fiber on its own.
     Unstable,
@@ -100,7 +101,8 @@ impl Counts {
 
     /// The label by SPEC section 6: a prep verdict carries the point; an outcome in at least
     /// 55% of the replicates dominates (53 of 96); otherwise walk-past and training coexist when
-    /// they differ by less than 10% of the replicates (at most 9 of 96); otherwise mixed.
+    /// they differ by less than 10% of the replicates (at most 9 of 96) and together make at
+    /// least half of them (48 of 96); otherwise mixed.
     pub fn label(&self) -> Option<Label> {
         if let Some(v) = self.verdict {
             return Some(v);
@@ -122,7 +124,9 @@ impl Counts {
                 return Some(label);
             }
         }
-        if self.n_walk.abs_diff(self.n_train) * 10 < n {
+        // Coexistence: close in number and together at least half of the replicates (SPEC: the
+        // paper's "significant presence of both").
+        if self.n_walk.abs_diff(self.n_train) * 10 < n && (self.n_walk + self.n_train) * 2 >= n {
             return Some(Label::Coexist);
         }
         Some(Label::Mixed)

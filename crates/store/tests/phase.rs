@@ -39,6 +39,17 @@ fn coexistence_needs_a_difference_below_ten_percent() {
 }
 
 #[test]
+fn coexistence_needs_walk_past_and_training_in_half_the_replicates() {
+    // SPEC section 6: close in number is not enough; together they must be at least 48 of 96.
+    assert_eq!(counts(24, 24, 48, 0).label(), Some(Label::Coexist));
+    assert_eq!(counts(24, 23, 49, 0).label(), Some(Label::Mixed));
+    assert_eq!(counts(10, 10, 40, 36).label(), Some(Label::Mixed));
+    // Odd totals: 2 (n_walk + n_train) >= n.
+    assert_eq!(counts(3, 3, 3, 0).label(), Some(Label::Coexist));
+    assert_eq!(counts(2, 2, 4, 1).label(), Some(Label::Mixed));
+}
+
+#[test]
 fn prep_verdicts_carry_the_point() {
     let mut c = counts(0, 0, 0, 0);
     c.n_unstable = 96;

@@ -6,6 +6,8 @@
 //! transaction together with its job's state change, so nothing is lost or counted twice.
 //! The schema is in [`schema::DDL`].
 
+pub mod adaptive;
+pub mod binomial;
 pub mod compare;
 pub mod error;
 pub mod fit;
@@ -16,6 +18,8 @@ pub mod slurm;
 pub mod status;
 pub mod store;
 
+pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
+pub use binomial::clopper_pearson;
 pub use compare::{compare, Comparison, End, EndCounts, PointComparison, Replicate, Test};
 pub use error::{Result, StoreError};
 pub use fit::{fit_line, Column, Fit, NoFit, Scales};

@@ -349,6 +349,20 @@ pub struct SubmitArgs {
     /// As for `run`: register even though a different sweep has the name.
     #[arg(long)]
     pub replace: bool,
+    /// Keep going until the sweep is done: collect, plan an adaptive sweep's next round,
+    /// submit it, wait for its arrays, and again.
+    #[arg(long, conflicts_with = "dry_run")]
+    pub watch: bool,
+    /// Seconds between looks at the queue with --watch.
+    #[arg(long, default_value_t = 30.0, value_name = "SECONDS", value_parser = poll_seconds)]
+    pub poll: f64,
+}
+
+fn poll_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && (0.1..=86_400.0).contains(&x) => Ok(x),
+        _ => Err(format!("{s:?} is not a number of seconds in [0.1, 86400]")),
+    }
 }
 
 #[derive(Debug, Args)]

@@ -26,6 +26,9 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
             "collected {name:?} from {d}: {} preps and {} results new, {} already in the store, {} failed attempts reported",
             c.preps, c.results, c.already, c.failures
         );
+        if c.planned > 0 {
+            println!("  planned the next round: {} more replicates", c.planned);
+        }
     }
     Ok(())
 }
@@ -72,6 +75,25 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         );
         return Ok(());
     }
+    if args.dry_run {
+        // Read only: what would be submitted now, from the store as it is.
+        let store = Store::open(&args.db.db)?;
+        let Ok(id) = store.sweep_id(&sweep.name) else {
+            println!(
+                "sweep {:?} is not registered in {}: it would be registered first",
+                sweep.name,
+                args.db.db.display()
+            );
+            return Ok(());
+        };
+        let mut store = store;
+        let sub = slurm::submit(&mut store, id, &sweep.name, SOLVER_VERSION, &opts)
+            .map_err(anyhow::Error::msg)?;
+        for (_, text) in &sub.scripts {
+            println!("{text}");
+        }
+        return Ok(());
+    }
     let mut store = Store::open_or_create(&args.db.db)?;
     let reg = store.register(&new, args.replace)?;
     if let Some(from) = reg.grown_from {
@@ -80,46 +102,59 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
             sweep.name, sweep.replicates
         );
     }
-    // Resubmitting: first take in what finished, and refuse while earlier arrays still run.
-    collect_sweep(&mut store, reg.sweep_id, &sweep.name)?;
-    let ids: Vec<String> = store
-        .arrays_of(reg.sweep_id, SOLVER_VERSION)?
-        .into_iter()
-        .map(|a| a.slurm_job_id)
-        .collect();
-    if let Some(states) = slurm::queue_states(&ids) {
-        let active: usize = states.iter().map(|(_, n)| n).sum();
-        if active > 0 && !args.dry_run {
-            bail!("{active} array tasks of {:?} are still queued or running (squeue); wait for them or scancel them, then submit again", sweep.name);
+    loop {
+        // First take in what finished (an adaptive sweep's next round is planned from it), and
+        // wait while earlier arrays still run.
+        collect_sweep(&mut store, reg.sweep_id, &sweep.name)?;
+        let ids: Vec<String> = store
+            .arrays_of(reg.sweep_id, SOLVER_VERSION)?
+            .into_iter()
+            .map(|a| a.slurm_job_id)
+            .collect();
+        let active: usize =
+            slurm::queue_states(&ids).map_or(0, |states| states.iter().map(|(_, n)| n).sum());
+        if active > 0 {
+            if !args.watch {
+                bail!("{active} array tasks of {:?} are still queued or running (squeue); wait for them or scancel them, then submit again", sweep.name);
+            }
+            std::thread::sleep(std::time::Duration::from_secs_f64(args.poll));
+            continue;
         }
-    }
-    let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)
-        .map_err(anyhow::Error::msg)?;
-    if args.dry_run {
-        for (_, text) in &sub.scripts {
-            println!("{text}");
+        let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)
+            .map_err(anyhow::Error::msg)?;
+        if sub.scripts.is_empty() {
+            println!(
+                "nothing to submit: every job of {:?} has a result{}",
+                sweep.name,
+                if sweep.adaptive.is_some() {
+                    " and every point is settled or at its budget"
+                } else {
+                    ""
+                }
+            );
+            return Ok(());
         }
-        return Ok(());
-    }
-    if sub.scripts.is_empty() {
         println!(
-            "nothing to submit: every job of {:?} has a result",
-            sweep.name
+            "submitted {:?}: {} preps in {} array tasks, {} collisions in {} array tasks ({} per task); run directory {}",
+            sweep.name, sub.preps, sub.prep_tasks, sub.jobs, sub.collide_tasks, sub.jobs_per_task, sub.sub_dir.display()
         );
-        return Ok(());
+        for (kind, id) in &sub.slurm_ids {
+            println!("  {kind}: Slurm job {id}");
+        }
+        if !args.watch {
+            println!(
+                "when they are done: cellsweep collect --db {}{}",
+                args.db.db.display(),
+                if sweep.adaptive.is_some() {
+                    ", then submit again for the next round (or submit --watch)"
+                } else {
+                    ""
+                }
+            );
+            return Ok(());
+        }
+        std::thread::sleep(std::time::Duration::from_secs_f64(args.poll));
     }
-    println!(
-        "submitted {:?}: {} preps in {} array tasks, {} collisions in {} array tasks ({} per task); run directory {}",
-        sweep.name, sub.preps, sub.prep_tasks, sub.jobs, sub.collide_tasks, sub.jobs_per_task, sub.sub_dir.display()
-    );
-    for (kind, id) in &sub.slurm_ids {
-        println!("  {kind}: Slurm job {id}");
-    }
-    println!(
-        "when they are done: cellsweep collect --db {}",
-        args.db.db.display()
-    );
-    Ok(())
 }
 
 pub fn collect(args: CollectArgs) -> anyhow::Result<()> {

@@ -10,12 +10,12 @@
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::time::Duration;
 
-use cellsweep_solver::{Config, Outcome, TrajectoryResult, Verdict};
-use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, ResultRecord, Store};
-use serde_json::json;
+use cellsweep_solver::{Config, Outcome, Verdict};
+use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, Store};
 use tokio::sync::mpsc;
 
 use crate::error::RunError;
+use crate::ledger::{Ledger, Settlement};
 use crate::pool::{worker_task, Event, WorkerCommand};
 use crate::wire::{PrepPayload, Request, Response};
 
@@ -78,53 +78,6 @@ fn config_error(e: String) -> RunError {
     RunError::Config(serde::de::Error::custom(e))
 }
 
-/// The record of a job decided by its prep's verdict (no collision run).
-pub(crate) fn verdict_record(
-    verdict: &str,
-    free_speed: Option<f64>,
-    prep_id: i64,
-    classifier: &str,
-) -> ResultRecord {
-    ResultRecord {
-        verdict: verdict.to_string(),
-        outcome: None,
-        contact_time: None,
-        decision_time: None,
-        free_speed,
-        threshold_speed: None,
-        attachment: None,
-        collision_steps: 0,
-        wall_s: 0.0,
-        classifier: classifier.to_string(),
-        record: json!({ "verdict": verdict, "prep_id": prep_id, "free_speed": free_speed })
-            .to_string(),
-    }
-}
-
-pub(crate) fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
-    ResultRecord {
-        verdict: r.verdict.as_str().to_string(),
-        outcome: r.outcome.map(|o| o.as_str().to_string()),
-        contact_time: r.contact_time,
-        decision_time: r.decision_time,
-        free_speed: r.free_speed,
-        threshold_speed: r.threshold_speed,
-        attachment: r.attachment.map(|[a, b]| {
-            let s = |x| {
-                serde_json::to_value(x)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default()
-            };
-            [s(a), s(b)]
-        }),
-        collision_steps: r.collision_steps,
-        wall_s,
-        classifier: serde_json::to_string(&r.config.classifier).unwrap_or_default(),
-        record: serde_json::to_string(r).unwrap_or_default(),
-    }
-}
-
 fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, n: i64) {
     let slot = match (verdict, outcome) {
         (_, Some(Outcome::Train)) => &mut outcomes.train,
@@ -139,19 +92,65 @@ fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, 
 
 struct Run<'a> {
     store: &'a mut Store,
-    sweep_id: i64,
-    version: String,
+    ledger: Ledger,
     opts: RunOptions,
     prep_queue: VecDeque<PrepTask>,
     waiting: HashMap<i64, VecDeque<JobTask>>,
     ready: VecDeque<JobTask>,
+    /// Every job this run has queued, so that a new round's jobs are queued once.
+    queued: HashSet<i64>,
+    /// Preps known to be decided `ok` (their jobs go straight to `ready`).
+    ok_preps: HashSet<i64>,
     payloads: HashMap<i64, PrepPayload>,
     prep_seeds: HashMap<i64, u64>,
-    classifier: String,
     progress: Progress,
 }
 
 impl Run<'_> {
+    /// Totals and counts from the store (at the start, and when a round adds jobs).
+    fn refresh_totals(&mut self) -> Result<(), RunError> {
+        let name = self.ledger.sweep.name.clone();
+        if let Some(s) = self
+            .store
+            .status()?
+            .into_iter()
+            .find(|s| s.solver_version == self.ledger.version && s.sweep == name)
+        {
+            self.progress.jobs_total = s.jobs.total() as u64;
+            self.progress.jobs_done = s.jobs.done as u64;
+            self.progress.failed = s.jobs.failed as u64;
+            self.progress.outcomes = s.outcomes.clone();
+        }
+        Ok(())
+    }
+
+    /// Queue the sweep's pending jobs this run has not queued yet.
+    fn queue_pending(&mut self) -> Result<(), RunError> {
+        for job in self
+            .store
+            .pending_jobs(self.ledger.sweep_id, &self.ledger.version)?
+        {
+            if !self.queued.insert(job.id) {
+                continue;
+            }
+            if self.ok_preps.contains(&job.prep_id) {
+                self.ready.push_back(job);
+            } else {
+                self.waiting.entry(job.prep_id).or_default().push_back(job);
+            }
+        }
+        Ok(())
+    }
+
+    /// An adaptive sweep's next rounds, once a point's round is complete.
+    fn plan_rounds(&mut self) -> Result<(), RunError> {
+        if self.ledger.plan_rounds(self.store)? > 0 {
+            self.refresh_totals()?;
+            self.queue_pending()?;
+        }
+        Ok(())
+    }
+
     fn payload(&mut self, prep_id: i64) -> Result<PrepPayload, RunError> {
         if let Some(p) = self.payloads.get(&prep_id) {
             return Ok(p.clone());
@@ -201,64 +200,78 @@ impl Run<'_> {
         Ok(None)
     }
 
-    /// A prep is decided: release its jobs, or settle them with its verdict.
-    fn prep_decided(
-        &mut self,
-        prep_id: i64,
-        verdict: &str,
-        free_speed: Option<f64>,
-    ) -> Result<(), RunError> {
+    /// A prep is decided: release its jobs (`ok`), or count the jobs its verdict settled.
+    fn prep_decided(&mut self, prep_id: i64, verdict: Verdict, settled: usize) {
         let jobs = self.waiting.remove(&prep_id).unwrap_or_default();
-        if verdict == Verdict::Ok.as_str() {
+        if verdict == Verdict::Ok {
+            self.ok_preps.insert(prep_id);
             self.ready.extend(jobs);
         } else {
-            let rec = verdict_record(verdict, free_speed, prep_id, &self.classifier);
-            let n = self
-                .store
-                .settle_jobs_of_prep(self.sweep_id, prep_id, &self.version, &rec)?;
-            self.progress.jobs_done += n as u64;
-            count(&mut self.progress.outcomes, verdict, None, n as i64);
+            self.progress.jobs_done += settled as u64;
+            count(
+                &mut self.progress.outcomes,
+                verdict.as_str(),
+                None,
+                settled as i64,
+            );
         }
-        Ok(())
-    }
-
-    fn prep_failed_for_good(&mut self, prep_id: i64, error: &str) -> Result<(), RunError> {
-        self.waiting.remove(&prep_id);
-        let n = self
-            .store
-            .fail_jobs_of_prep(self.sweep_id, prep_id, &self.version, error)?;
-        self.progress.failed += n as u64;
-        Ok(())
     }
 
     fn on_reply(&mut self, busy: Busy, response: Response) -> Result<(), RunError> {
         match (busy, response) {
-            (Busy::Prep(task), Response::Prep { prep, wall_s, .. }) => {
-                let rec = prep.to_record(wall_s).map_err(config_error)?;
-                self.store.commit_prep(task.id, &rec)?;
+            (
+                Busy::Prep(task),
+                Response::Prep {
+                    task: id,
+                    prep,
+                    wall_s,
+                },
+            ) if id == task.id => {
+                let s = self
+                    .ledger
+                    .settle_prep(self.store, task.id, &prep, wall_s)?;
+                if let Settlement::Refused(why) = &s.settlement {
+                    return self.on_failure(Busy::Prep(task), why);
+                }
                 self.progress.preps_done += 1;
-                let (verdict, speed) = (prep.verdict.as_str(), prep.free_speed);
+                let verdict = prep.verdict;
                 self.payloads.insert(task.id, *prep);
-                self.prep_decided(task.id, verdict, speed)?;
+                self.prep_decided(task.id, verdict, s.jobs_settled);
+                self.plan_rounds()?;
             }
-            (Busy::Job(task), Response::Collide { result, wall_s, .. }) => {
-                self.store.commit_result(
-                    task.id,
-                    &self.version,
-                    &result_record(&result, wall_s),
-                )?;
-                self.progress.jobs_done += 1;
-                count(
-                    &mut self.progress.outcomes,
-                    result.verdict.as_str(),
-                    result.outcome,
-                    1,
-                );
+            (
+                Busy::Job(task),
+                Response::Collide {
+                    task: id,
+                    result,
+                    wall_s,
+                },
+            ) if id == task.id => {
+                match self
+                    .ledger
+                    .settle_job(self.store, task.id, &result, wall_s)?
+                {
+                    Settlement::Refused(why) => return self.on_failure(Busy::Job(task), &why),
+                    Settlement::Already => {}
+                    Settlement::New => {
+                        self.progress.jobs_done += 1;
+                        count(
+                            &mut self.progress.outcomes,
+                            result.verdict.as_str(),
+                            result.outcome,
+                            1,
+                        );
+                        self.plan_rounds()?;
+                    }
+                }
             }
             (busy, Response::Failed { error, .. }) => self.on_failure(busy, &error)?,
             (busy, other) => self.on_failure(
                 busy,
-                &format!("worker answered with the wrong kind of result: {other:?}"),
+                &format!(
+                    "worker answered with the wrong result: {}",
+                    serde_json::to_string(&other).unwrap_or_default()
+                ),
             )?,
         }
         Ok(())
@@ -267,18 +280,21 @@ impl Run<'_> {
     fn on_failure(&mut self, busy: Busy, error: &str) -> Result<(), RunError> {
         let max = self.opts.max_attempts;
         match busy {
-            Busy::Prep(mut task) => match self.store.fail_prep(task.id, error, max)? {
-                JobState::Pending => {
-                    self.progress.retries += 1;
-                    task.attempts += 1;
-                    self.prep_queue.push_front(task);
+            Busy::Prep(mut task) => {
+                match self.ledger.fail_prep(self.store, task.id, error, max)? {
+                    (JobState::Pending, _) => {
+                        self.progress.retries += 1;
+                        task.attempts += 1;
+                        self.prep_queue.push_front(task);
+                    }
+                    (_, failed) => {
+                        self.progress.preps_done += 1;
+                        self.progress.failed += failed as u64;
+                        self.waiting.remove(&task.id);
+                    }
                 }
-                _ => {
-                    self.progress.preps_done += 1;
-                    self.prep_failed_for_good(task.id, error)?;
-                }
-            },
-            Busy::Job(mut task) => match self.store.fail_job(task.id, error, max)? {
+            }
+            Busy::Job(mut task) => match self.ledger.fail_job(self.store, task.id, error, max)? {
                 JobState::Pending => {
                     self.progress.retries += 1;
                     task.attempts += 1;
@@ -305,65 +321,45 @@ pub async fn run_sweep(
             "recovered {recovered} interrupted jobs and preps; they run again"
         ));
     }
+    let ledger = Ledger::load(store, sweep_id, version)?;
+    // Work decided before: verdict preps settle jobs added since, complete rounds plan the next.
+    ledger.settle_decided(store)?;
+    ledger.plan_rounds(store)?;
     let preps = store.preps_of(sweep_id, version)?;
-    let pending_jobs = store.pending_jobs(sweep_id, version)?;
-    let classifier = pending_jobs
-        .first()
-        .and_then(|j| serde_json::from_str::<Config>(&j.config).ok())
-        .map(|c| serde_json::to_string(&c.classifier).unwrap_or_default())
-        .unwrap_or_default();
-    let status = store.status()?;
-    let mut progress = Progress::default();
-    if let Some(s) = status
-        .iter()
-        .find(|s| s.solver_version == version && store.sweep_id(&s.sweep).ok() == Some(sweep_id))
-    {
-        progress.jobs_total = s.jobs.total() as u64;
-        progress.jobs_done = s.jobs.done as u64;
-        progress.failed = s.jobs.failed as u64;
-        progress.outcomes = s.outcomes.clone();
-    }
-    progress.preps_total = preps.len() as u64;
-
     let mut run = Run {
         store,
-        sweep_id,
-        version: version.to_string(),
+        ledger,
         opts: opts.clone(),
         prep_queue: VecDeque::new(),
         waiting: HashMap::new(),
         ready: VecDeque::new(),
+        queued: HashSet::new(),
+        ok_preps: HashSet::new(),
         payloads: HashMap::new(),
         prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
-        classifier,
-        progress,
+        progress: Progress::default(),
     };
-    let mut decided = Vec::new();
+    run.refresh_totals()?;
+    run.progress.preps_total = preps.len() as u64;
     for prep in preps {
         match prep.state {
             JobState::Done => {
                 run.progress.preps_done += 1;
-                decided.push((prep.id, prep.verdict.clone().unwrap_or_default()));
+                if prep.verdict.as_deref() == Some("ok") {
+                    run.ok_preps.insert(prep.id);
+                }
             }
             JobState::Failed => {
                 run.progress.preps_done += 1;
-                let error = "failed in an earlier run".to_string();
-                run.prep_failed_for_good(prep.id, &error)?;
+                let n =
+                    run.ledger
+                        .fail_jobs_of_prep(run.store, prep.id, "failed in an earlier run")?;
+                run.progress.failed += n as u64;
             }
             _ => run.prep_queue.push_back(prep),
         }
     }
-    for job in pending_jobs {
-        run.waiting.entry(job.prep_id).or_default().push_back(job);
-    }
-    for (id, verdict) in decided {
-        let speed = if verdict == "ok" {
-            None
-        } else {
-            run.store.load_prep(id).ok().and_then(|r| r.free_speed)
-        };
-        run.prep_decided(id, &verdict, speed)?;
-    }
+    run.queue_pending()?;
     reporter.progress(&run.progress);
 
     let work = run.prep_queue.len()

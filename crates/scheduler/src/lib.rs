@@ -2,13 +2,15 @@
 //!
 //! Turns a sweep file into seeded jobs and runs them: [`sweep`] parses and validates
 //! `sweeps/*.toml`, [`plan`] expands a sweep into points, preps and jobs with seeds derived from
-//! the sweep seed and the parameters (never from scheduling order), [`coordinator`] dispatches
-//! them to worker processes ([`pool`]) speaking JSON lines ([`wire`]), and [`worker`] is the
-//! worker side.
+//! the sweep seed and the parameters (never from scheduling order), [`ledger`] is the one way
+//! work enters the store (every record checked against the job it claims; an adaptive sweep's
+//! rounds planned), [`coordinator`] dispatches jobs to worker processes ([`pool`]) speaking JSON
+//! lines ([`wire`]), [`slurm`] runs them as Slurm job arrays, and [`worker`] is the worker side.
 
 pub mod coordinator;
 pub mod error;
 pub mod grid;
+pub mod ledger;
 pub mod plan;
 pub mod pool;
 pub mod slurm;
@@ -18,6 +20,7 @@ pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
 pub use error::{RunError, SweepError};
-pub use plan::plan;
+pub use ledger::{Ledger, Settlement};
+pub use plan::{plan, plan_targets};
 pub use pool::WorkerCommand;
 pub use sweep::{RunSettings, Sweep};

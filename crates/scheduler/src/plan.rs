@@ -52,12 +52,19 @@ pub fn job_seed(sweep_seed: u64, params: &Params, replicate: u32) -> u64 {
     derive(&[sweep_seed, COLLISION_TAG, fnv1a(&key), replicate as u64])
 }
 
-/// The rows to register for `sweep`, read from `source`.
+/// The rows to register for `sweep`, read from `source`: every replicate, or an adaptive
+/// sweep's first round.
 pub fn plan(sweep: &Sweep, source: &str) -> NewSweep {
+    plan_targets(sweep, source, &|_| sweep.initial_replicates())
+}
+
+/// The rows to register for `sweep` with `target(point index)` replicates at each point (the
+/// first ones, in index order; more than the budget are never planned).
+pub fn plan_targets(sweep: &Sweep, source: &str, target: &dyn Fn(usize) -> u32) -> NewSweep {
     let mut preps: Vec<NewPrep> = Vec::new();
     let mut prep_index: HashMap<(String, u32), usize> = HashMap::new();
     let mut points = Vec::new();
-    for params in sweep.points() {
+    for (idx, params) in sweep.points().into_iter().enumerate() {
         let key = prep_key(&params, &sweep.protocol);
         let config = Config {
             params: params.clone(),
@@ -77,7 +84,7 @@ pub fn plan(sweep: &Sweep, source: &str) -> NewSweep {
             });
             own_preps.push(idx);
         }
-        let jobs = (0..sweep.replicates)
+        let jobs = (0..target(idx).min(sweep.replicates))
             .map(|r| NewJob {
                 replicate: r,
                 seed: job_seed(sweep.seed, &params, r),

@@ -16,10 +16,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use cellsweep_solver::{Config, Verdict};
+use cellsweep_solver::Config;
 use cellsweep_store::{JobState, SlurmArray, Store};
 
-use crate::coordinator::result_record;
+use crate::ledger::{Ledger, Settlement};
 use crate::wire::{PrepPayload, Request, Response};
 
 /// How to submit.
@@ -166,6 +166,10 @@ pub fn submit(
     if !opts.dry_run {
         // Work left `running` by a local run that was killed is unfinished: submit it too.
         store.recover_running(sweep_id, version).map_err(e)?;
+        let ledger = Ledger::load(store, sweep_id, version).map_err(|x| x.to_string())?;
+        ledger.settle_decided(store).map_err(|x| x.to_string())?;
+        // An adaptive sweep's next round, for the points whose round is complete.
+        ledger.plan_rounds(store).map_err(|x| x.to_string())?;
     }
     let preps = store.preps_of(sweep_id, version).map_err(e)?;
     let jobs = store.pending_jobs(sweep_id, version).map_err(e)?;
@@ -188,13 +192,8 @@ pub fn submit(
                     )?;
                 }
             }
-            (JobState::Done, Some(v)) => {
-                if !opts.dry_run {
-                    let rec = crate::coordinator::verdict_record(v, None, p.id, "{}");
-                    store
-                        .settle_jobs_of_prep(sweep_id, p.id, version, &rec)
-                        .map_err(e)?;
-                }
+            // Its verdict settled its jobs (the ledger, above).
+            (JobState::Done, Some(_)) => {
                 blocked.insert(p.id);
             }
             (JobState::Failed, _) => {
@@ -435,18 +434,25 @@ pub struct Collected {
     pub already: usize,
     pub failures: usize,
     pub problems: Vec<String>,
+    /// Jobs of an adaptive sweep's next rounds, added after collecting.
+    pub planned: usize,
 }
 
-/// Ingest the result files under `run_dir` into the store; collecting twice changes nothing.
+/// Ingest the result files under `run_dir` into the store through the ledger, which checks
+/// every record against the job or prep it claims; collecting twice changes nothing. Then an
+/// adaptive sweep's next rounds are planned (`planned` jobs).
 pub fn collect(
     store: &mut Store,
     sweep_id: i64,
     version: &str,
     run_dir: &Path,
 ) -> Result<Collected, String> {
-    let e = |x: cellsweep_store::StoreError| x.to_string();
+    let e = |x: crate::error::RunError| x.to_string();
+    let ledger = Ledger::load(store, sweep_id, version).map_err(e)?;
     let mut c = Collected::default();
-    let preps = store.preps_of(sweep_id, version).map_err(e)?;
+    let preps = store
+        .preps_of(sweep_id, version)
+        .map_err(|x| x.to_string())?;
     let preps_dir = run_dir.join("preps");
     for p in preps.iter().filter(|p| p.state != JobState::Done) {
         let path = preps_dir.join(format!("{}.json", p.id));
@@ -464,27 +470,16 @@ pub fn collect(
                 continue;
             }
         };
-        let rec = match payload.to_record(0.0) {
-            Ok(r) => r,
-            Err(x) => {
-                c.problems.push(format!("{}: {x}", path.display()));
-                continue;
+        let s = ledger.settle_prep(store, p.id, &payload, 0.0).map_err(e)?;
+        match s.settlement {
+            Settlement::New => c.preps += 1,
+            Settlement::Already => {}
+            Settlement::Refused(why) => {
+                c.problems
+                    .push(format!("{}: refused: {why}", path.display()));
             }
-        };
-        if store.collect_prep(p.id, &rec).map_err(e)? {
-            c.preps += 1;
         }
-        if payload.verdict != Verdict::Ok {
-            let rec = crate::coordinator::verdict_record(
-                payload.verdict.as_str(),
-                payload.free_speed,
-                p.id,
-                "{}",
-            );
-            c.results += store
-                .settle_jobs_of_prep(sweep_id, p.id, version, &rec)
-                .map_err(e)?;
-        }
+        c.results += s.jobs_settled;
     }
     let mut files = Vec::new();
     if let Ok(subs) = std::fs::read_dir(run_dir) {
@@ -504,21 +499,19 @@ pub fn collect(
                     task,
                     result,
                     wall_s,
-                } => {
-                    if store
-                        .collect_result(task, version, &result_record(&result, wall_s))
-                        .map_err(e)?
-                    {
-                        c.results += 1;
-                    } else {
-                        c.already += 1;
+                } => match ledger.settle_job(store, task, &result, wall_s).map_err(e)? {
+                    Settlement::New => c.results += 1,
+                    Settlement::Already => c.already += 1,
+                    Settlement::Refused(why) => {
+                        c.problems.push(format!("{}: refused: {why}", f.display()))
                     }
-                }
+                },
                 Response::Failed { .. } => c.failures += 1,
                 Response::Prep { .. } => {}
             }
         }
     }
+    c.planned = ledger.plan_rounds(store).map_err(e)?;
     Ok(c)
 }
 

@@ -20,6 +20,11 @@
 //! precision = "f64"                        # collision float type: "f64" (default) or "f32"
 //! [classifier]                             # optional: classifier settings
 //! sustain_window = 25
+//! [adaptive]                               # optional: replicates in rounds until settled
+//! batch = 8                                # replicates added to an open point per round
+//! min_replicates = 8                       # the first round
+//! max_replicates = 96                      # the budget (default: replicates)
+//! error = 0.05                             # chance of settling on a wrong label
 //! [run]                                    # optional: fault handling
 //! job_timeout = 3600                       # seconds per job before the worker is killed
 //! max_attempts = 3
@@ -28,6 +33,7 @@
 use std::path::Path;
 
 use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
+use cellsweep_store::AdaptiveRule;
 use serde::{Deserialize, Serialize};
 use toml::{Table, Value};
 
@@ -74,6 +80,11 @@ pub struct Sweep {
     pub params: Params,
     pub protocol: Protocol,
     pub classifier: ClassifierSettings,
+    /// Replicates in rounds until each point is settled (`replicates` is then the budget).
+    /// It may change under the same name: it decides how many replicates run, never what one
+    /// replicate gives.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<AdaptiveRule>,
     /// Not part of the sweep's identity: changing it does not make a different sweep.
     #[serde(skip)]
     pub run: RunSettings,
@@ -90,6 +101,7 @@ const TOP_KEYS: &[&str] = &[
     "params",
     "protocol",
     "classifier",
+    "adaptive",
     "run",
 ];
 const GRID_KEYS: &[&str] = &["alpha", "beta", "L", "sigma"];
@@ -349,6 +361,41 @@ impl Sweep {
             }
         }
 
+        let adaptive = match cx.table(&top, "adaptive")? {
+            None => None,
+            Some(t) => {
+                cx.unknown_keys(
+                    t,
+                    "adaptive.",
+                    &["batch", "min_replicates", "max_replicates", "error"],
+                )?;
+                let get = |key: &str, default: u64| -> Result<u32, SweepError> {
+                    let full = format!("adaptive.{key}");
+                    let v = t.get(key).map_or(Ok(default), |v| cx.uint(v, &full, 1))?;
+                    u32::try_from(v).map_err(|_| cx.err(full, format!("{v} is too large")))
+                };
+                let max = get("max_replicates", replicates)?;
+                if top.get("replicates").is_some() && max as u64 != replicates {
+                    return Err(cx.err(
+                        "adaptive.max_replicates",
+                        format!("{max} differs from replicates = {replicates}: give one of them"),
+                    ));
+                }
+                let rule = AdaptiveRule {
+                    batch: get("batch", 8)?,
+                    min_replicates: get("min_replicates", 8.min(max as u64))?,
+                    max_replicates: max,
+                    error: t
+                        .get("error")
+                        .map_or(Ok(0.05), |v| cx.num(v, "adaptive.error"))?,
+                };
+                rule.validate()
+                    .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
+                Some(rule)
+            }
+        };
+        let replicates = adaptive.map_or(replicates, |a| a.max_replicates as u64);
+
         let mut run = RunSettings::default();
         if let Some(t) = cx.table(&top, "run")? {
             cx.unknown_keys(t, "run.", &["job_timeout", "max_attempts"])?;
@@ -372,6 +419,7 @@ impl Sweep {
             params,
             protocol,
             classifier,
+            adaptive,
             run,
         };
         // Every point must be a valid model: the first invalid one names the key to fix.
@@ -435,6 +483,13 @@ impl Sweep {
             }
         }
         out
+    }
+
+    /// Replicates registered per point at the start: the first round of an adaptive sweep,
+    /// else all of them.
+    pub fn initial_replicates(&self) -> u32 {
+        self.adaptive
+            .map_or(self.replicates, |a| a.min_replicates.min(self.replicates))
     }
 
     /// Canonical JSON of the sweep's definition (everything but the run settings).

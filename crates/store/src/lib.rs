@@ -28,6 +28,6 @@ pub use phase::{wilson, Counts, Fraction, Label};
 pub use slurm::SlurmArray;
 pub use status::{OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{
-    bytes_to_f64s, f64s_to_bytes, now, JobTask, NewJob, NewPoint, NewPrep, NewSweep, PrepRecord,
-    PrepTask, Registration, ResultRecord, Store,
+    bytes_to_f64s, f64s_to_bytes, now, JobIdentity, JobTask, NewJob, NewPoint, NewPrep, NewSweep,
+    PrepIdentity, PrepRecord, PrepTask, Registration, ResultRecord, Store,
 };

@@ -47,14 +47,14 @@ impl Store {
         Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
     }
 
-    /// A result read from a Slurm result file: a job that is not yet done becomes done with it,
-    /// in one transaction; a job already done is left alone. Returns whether it was new.
+    /// A checked result (see the scheduler's ledger): a job that is not yet done becomes done
+    /// with it, in one transaction; a job already done is left alone. Returns whether it was new.
     pub fn collect_result(&mut self, job_id: i64, version: &str, r: &ResultRecord) -> Result<bool> {
         let tx = self.conn.transaction()?;
         let t = now();
         let n = tx.execute(
             "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL
-             WHERE id = ?1 AND state IN ('pending', 'running') AND solver_version = ?3",
+             WHERE id = ?1 AND state IN ('pending', 'running', 'failed') AND solver_version = ?3",
             params![job_id, t, version],
         )?;
         if n == 0 {

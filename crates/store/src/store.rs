@@ -285,6 +285,13 @@ impl Store {
             None => (insert_sweep(&tx, sweep)?, true),
             Some((id, spec)) => match spec_change(&spec, &sweep.spec) {
                 SpecChange::Same => (id, false),
+                SpecChange::Retuned => {
+                    tx.execute(
+                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                        params![sweep.spec, sweep.source, id],
+                    )?;
+                    (id, false)
+                }
                 SpecChange::Grows { from } => {
                     // Replicate r's seed and prep do not depend on how many replicates there
                     // are: the stored jobs are the first `from` of the grown sweep, and the
@@ -666,7 +673,9 @@ impl Store {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum SpecChange {
     Same,
-    /// Only `replicates` differs, and it is larger.
+    /// Only the adaptive rule differs.
+    Retuned,
+    /// Only `replicates` (and perhaps the adaptive rule) differs, and it is larger.
     Grows {
         from: u32,
     },
@@ -679,23 +688,26 @@ enum SpecChange {
     Other,
 }
 
-/// Compare two canonical sweep definitions. `replicates` is the one key that may change under
-/// the same name: growing it only adds jobs, since a replicate's seed and prep depend on its
-/// index, never on the count (SPEC section 6).
+/// Compare two canonical sweep definitions. `replicates` and `adaptive` are the keys that may
+/// change under the same name: growing the budget only adds jobs, since a replicate's seed and
+/// prep depend on its index, never on the count (SPEC section 6), and the adaptive rule only
+/// decides how many of them run.
 fn spec_change(stored: &str, new: &str) -> SpecChange {
     if stored == new {
         return SpecChange::Same;
     }
     let split = |text: &str| -> Option<(u32, serde_json::Value)> {
         let mut v: serde_json::Value = serde_json::from_str(text).ok()?;
-        let n = v.as_object_mut()?.remove("replicates")?.as_u64()?;
+        let map = v.as_object_mut()?;
+        let n = map.remove("replicates")?.as_u64()?;
+        map.remove("adaptive");
         Some((u32::try_from(n).ok()?, v))
     };
     match (split(stored), split(new)) {
         (Some((from, a)), Some((to, b))) if a == b => match to.cmp(&from) {
             std::cmp::Ordering::Greater => SpecChange::Grows { from },
             std::cmp::Ordering::Less => SpecChange::Shrinks { from, to },
-            std::cmp::Ordering::Equal => SpecChange::Same,
+            std::cmp::Ordering::Equal => SpecChange::Retuned,
         },
         _ => SpecChange::Other,
     }
@@ -744,4 +756,113 @@ pub(crate) fn insert_result(
         ],
     )?;
     Ok(())
+}
+
+/// What the store says a job is: the ledger checks every record that claims it against this.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JobIdentity {
+    pub sweep_id: i64,
+    pub solver_version: String,
+    pub seed: u64,
+    pub prep_id: i64,
+    pub state: JobState,
+    /// JSON of the point's solver configuration.
+    pub config: String,
+    /// The prep's verdict, once it is done.
+    pub prep_verdict: Option<String>,
+}
+
+/// What the store says a prep is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrepIdentity {
+    pub seed: u64,
+    pub solver_version: String,
+    pub state: JobState,
+    /// JSON of the prep's configuration (parameters and protocol).
+    pub config: String,
+    /// Whether jobs of the given sweep start from it.
+    pub used_by_sweep: bool,
+}
+
+impl Store {
+    /// The identity of job `id`, if it exists.
+    pub fn job_identity(&self, id: i64) -> Result<Option<JobIdentity>> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT p.sweep_id, j.solver_version, j.seed, j.prep_id, j.state, p.params,
+                        CASE WHEN pr.state = 'done' THEN pr.verdict END
+                 FROM jobs j JOIN points p ON p.id = j.point_id JOIN preps pr ON pr.id = j.prep_id
+                 WHERE j.id = ?1",
+                [id],
+                |r| {
+                    let state: String = r.get(4)?;
+                    Ok(JobIdentity {
+                        sweep_id: r.get(0)?,
+                        solver_version: r.get(1)?,
+                        seed: seed_from_sql(r.get(2)?),
+                        prep_id: r.get(3)?,
+                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                        config: r.get(5)?,
+                        prep_verdict: r.get(6)?,
+                    })
+                },
+            )
+            .optional()?)
+    }
+
+    /// The identity of prep `id` as seen from sweep `sweep_id`, if it exists.
+    pub fn prep_identity(&self, id: i64, sweep_id: i64) -> Result<Option<PrepIdentity>> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT seed, solver_version, state, config, EXISTS (
+                     SELECT 1 FROM jobs j JOIN points p ON p.id = j.point_id
+                     WHERE j.prep_id = preps.id AND p.sweep_id = ?2)
+                 FROM preps WHERE id = ?1",
+                params![id, sweep_id],
+                |r| {
+                    let state: String = r.get(2)?;
+                    Ok(PrepIdentity {
+                        seed: seed_from_sql(r.get(0)?),
+                        solver_version: r.get(1)?,
+                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                        config: r.get(3)?,
+                        used_by_sweep: r.get(4)?,
+                    })
+                },
+            )
+            .optional()?)
+    }
+
+    /// The canonical JSON definition of a registered sweep.
+    pub fn sweep_spec(&self, sweep_id: i64) -> Result<String> {
+        Ok(self
+            .conn
+            .query_row("SELECT spec FROM sweeps WHERE id = ?1", [sweep_id], |r| {
+                r.get(0)
+            })?)
+    }
+
+    /// Jobs registered per point of a sweep under `version`, by point index.
+    pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<u32>> {
+        let mut q = self.conn.prepare(
+            "SELECT p.idx, COUNT(j.id) FROM points p
+             LEFT JOIN jobs j ON j.point_id = p.id AND j.solver_version = ?2
+             WHERE p.sweep_id = ?1 GROUP BY p.id ORDER BY p.idx",
+        )?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?))
+        })?;
+        let mut out = Vec::new();
+        for row in rows {
+            let (idx, n) = row?;
+            let idx = idx as usize;
+            if out.len() <= idx {
+                out.resize(idx + 1, 0);
+            }
+            out[idx] = n as u32;
+        }
+        Ok(out)
+    }
 }

@@ -3,8 +3,9 @@
 use std::path::Path;
 
 use anyhow::{bail, Context};
+use cellsweep_scheduler::Ledger;
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::{Counts, Label, Scales, Store};
+use cellsweep_store::{Assessment, Counts, Label, Scales, Store};
 
 use crate::cli::CountsSource;
 
@@ -13,6 +14,8 @@ pub struct Loaded {
     pub name: String,
     pub counts: Vec<Counts>,
     pub scales: Scales,
+    /// An adaptive sweep's standing of each point, beside `counts`.
+    pub standings: Option<Vec<Assessment>>,
 }
 
 pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
@@ -21,6 +24,7 @@ pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
             name: path.display().to_string(),
             counts: read_csv(path)?,
             scales: Scales::default(),
+            standings: None,
         }),
         None => from_store(&src.db, src.sweep.as_deref()),
     }
@@ -70,10 +74,12 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
             }
         })
         .collect();
+    let standings = Ledger::load(&store, id, SOLVER_VERSION)?.assess(&store)?;
     Ok(Loaded {
         name,
         counts,
         scales,
+        standings,
     })
 }
 

@@ -29,23 +29,41 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
             sweep.name
         );
     }
+    let verb = if reg.created {
+        "registered"
+    } else if reg.grown_from.is_some() {
+        "grew"
+    } else {
+        "resuming"
+    };
+    let shape = if sweep.adaptive.is_some() {
+        format!(
+            "{} points x up to {} replicates (adaptive), {} jobs in the first round",
+            new.points.len(),
+            sweep.replicates,
+            n_jobs
+        )
+    } else {
+        format!(
+            "{} points x {} replicates = {} jobs",
+            new.points.len(),
+            sweep.replicates,
+            n_jobs
+        )
+    };
     println!(
-        "{} sweep {:?}: {} points x {} replicates = {} jobs, {} preps, in {}",
-        if reg.created {
-            "registered"
-        } else if reg.grown_from.is_some() {
-            "grew"
-        } else {
-            "resuming"
-        },
+        "{verb} sweep {:?}: {shape}, {} preps, in {}",
         sweep.name,
-        new.points.len(),
-        sweep.replicates,
-        n_jobs,
         new.preps.len(),
         args.db.db.display()
     );
-
+    if let Some(a) = &sweep.adaptive {
+        println!(
+            "  adaptive: {} replicates per point first, then {} more per round until the point's \
+             label is settled at error {} (or its sign, away from the crossing), at most {}",
+            a.min_replicates, a.batch, a.error, a.max_replicates
+        );
+    }
     if let Some(from) = reg.grown_from {
         println!(
             "  from {from} replicates per point: the results already stored are kept, and only the \
@@ -93,6 +111,22 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         for f in super::plot::write_plots(&loaded, dir)? {
             println!("wrote {}", f.display());
         }
+    }
+    if let Some(st) = &loaded.standings {
+        let mut by: std::collections::BTreeMap<&str, usize> = Default::default();
+        for a in st {
+            *by.entry(a.standing.as_str()).or_default() += 1;
+        }
+        let ran: u64 = loaded.counts.iter().map(|c| c.total()).sum();
+        let budget = st.len() as u64 * sweep.replicates as u64;
+        println!(
+            "adaptive: {}; {ran} of {budget} replicates run ({:.0}%)",
+            by.iter()
+                .map(|(k, n)| format!("{n} {k}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            100.0 * ran as f64 / budget.max(1) as f64
+        );
     }
     let p = &report.progress;
     if p.failed > 0 {

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_store::{wilson, Counts, Label};
+use cellsweep_store::{wilson, Assessment, Counts, Label};
 use serde_json::json;
 
 use super::counts;
@@ -81,13 +81,21 @@ pub const LEGEND: &str =
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
     let loaded = counts::load(&args.source)?;
-    let counts: Vec<Counts> = loaded
-        .counts
-        .into_iter()
-        .filter(|c| {
-            args.spacing.is_none_or(|l| c.L == l) && args.sigma.is_none_or(|s| c.sigma == s)
-        })
-        .collect();
+    let keep = |c: &Counts| {
+        args.spacing.is_none_or(|l| c.L == l) && args.sigma.is_none_or(|s| c.sigma == s)
+    };
+    // An adaptive sweep's standing of each kept point.
+    let standings: Option<Vec<Assessment>> = loaded.standings.as_ref().map(|st| {
+        loaded
+            .counts
+            .iter()
+            .zip(st)
+            .filter(|(c, _)| keep(c))
+            .map(|(_, a)| a.clone())
+            .collect()
+    });
+    let standing = |i: usize| standings.as_ref().map(|s| &s[i]);
+    let counts: Vec<Counts> = loaded.counts.into_iter().filter(|c| keep(c)).collect();
     if counts.is_empty() {
         anyhow::bail!("no points match in {}", loaded.name);
     }
@@ -98,7 +106,7 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
             }
             println!("{LEGEND}\n");
             println!(
-                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  label",
+                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  label{}",
                 "alpha",
                 "beta",
                 "L",
@@ -107,9 +115,14 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                 "train",
                 "walk_past",
                 "reversal",
-                "undetermined"
+                "undetermined",
+                if standings.is_some() {
+                    "  standing (adaptive)"
+                } else {
+                    ""
+                }
             );
-            for c in &counts {
+            for (i, c) in counts.iter().enumerate() {
                 let n = c.total();
                 let cells: Vec<String> = fractions(c)
                     .iter()
@@ -118,8 +131,11 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                         format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
                     })
                     .collect();
+                let st = standing(i).map_or(String::new(), |a| {
+                    format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
+                });
                 println!(
-                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  {}",
+                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
                     c.alpha,
                     c.beta,
                     c.L,
@@ -138,8 +154,16 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
             for f in FRACTIONS {
                 header += &format!(",f_{f},f_{f}_low,f_{f}_high");
             }
-            println!("{header},free_speed,label");
-            for c in &counts {
+            header += ",free_speed,label";
+            if standings.is_some() {
+                header += ",standing,assessed_n";
+                for f in FRACTIONS {
+                    header += &format!(",{f}_lo,{f}_hi");
+                }
+                header += ",walk_minus_train_lo,walk_minus_train_hi";
+            }
+            println!("{header}");
+            for (i, c) in counts.iter().enumerate() {
                 let n = c.total();
                 let mut row = format!(
                     "{},{},{},{},{},{},{},{},{},{},{}",
@@ -165,13 +189,28 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                     (None, Some(l)) => l.as_str(),
                     (None, None) => "",
                 };
-                println!("{row},{speed},{label}");
+                let mut st = String::new();
+                if let Some(a) = standing(i) {
+                    st = format!(",{},{}", a.standing.as_str(), a.n);
+                    let b = a.bounds.as_ref();
+                    for pair in [
+                        b.map(|b| b.train),
+                        b.map(|b| b.walk_past),
+                        b.map(|b| b.reversal),
+                        b.map(|b| b.undetermined),
+                        b.map(|b| b.walk_minus_train),
+                    ] {
+                        st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
+                    }
+                }
+                println!("{row},{speed},{label}{st}");
             }
         }
         Format::Json => {
             let rows: Vec<_> = counts
                 .iter()
-                .map(|c| {
+                .enumerate()
+                .map(|(i, c)| {
                     let n = c.total();
                     let mut f = serde_json::Map::new();
                     for (k, name) in fractions(c) {
@@ -181,14 +220,22 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                             json!({ "value": w.value, "low": w.low, "high": w.high }),
                         );
                     }
-                    json!({
+                    let mut row = json!({
                         "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
                         "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
                         "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
                         "n_breakup": c.n_breakup, "n": n, "fractions": f,
                         "free_speed": c.free_speed,
                         "label": c.label().map(Label::as_str),
-                    })
+                    });
+                    if let Some(a) = standing(i) {
+                        row["standing"] = json!(a.standing);
+                        row["assessed_n"] = json!(a.n);
+                        row["certain_label"] = json!(a.certain_label);
+                        row["certain_sign"] = json!(a.certain_sign);
+                        row["bounds"] = json!(a.bounds);
+                    }
+                    row
                 })
                 .collect();
             println!("{}", serde_json::to_string_pretty(&rows)?);

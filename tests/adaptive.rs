@@ -1,8 +1,13 @@
 //! Adaptive sweeps through real worker processes: rounds until every point is settled, and an
 //! adaptive point's results are exactly the first n replicates of the fixed sweep.
 
+mod common;
+
 use std::path::{Path, PathBuf};
+
 use std::process::{Command, Output};
+
+use common::{result_rows, write_sweep, ADAPTIVE};
 
 fn workdir(name: &str) -> PathBuf {
     let dir =
@@ -17,51 +22,6 @@ fn cellsweep(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-/// The real model on small lattices, 2 alphas x 2 sigmas. A 2 tau0 collision is always
-/// `undetermined`: with batch 4, min 4, max 16 and error 0.05 (delta = 0.05 / 16 per interval),
-/// a point of n undetermined replicates is settled once (delta/2)^(1/n) >= 0.55, at n = 12.
-fn write_sweep(dir: &Path, name: &str, replicates: u32, tail: &str) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(
-        &path,
-        format!(
-            "name = \"{name}\"\nseed = 5\nreplicates = {replicates}\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\nL = [48]\nsigma = [5, 0]\n\
-             [params]\nR0 = 24\n[protocol]\nsingle_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = 2\n{tail}"
-        ),
-    )
-    .unwrap();
-    path
-}
-
-pub const ADAPTIVE: &str = "[adaptive]\nbatch = 4\nmin_replicates = 4\nerror = 0.05\n";
-
-/// Every result row of a sweep, keyed by point and replicate, without wall times and
-/// timestamps: (alpha, beta, L, sigma, replicate) -> the other columns as text.
-pub fn result_rows(db: &Path, sweep: &str) -> Vec<(String, String)> {
-    let c = rusqlite::Connection::open(db).unwrap();
-    let mut q = c
-        .prepare(
-            "SELECT p.alpha, p.beta, p.L, p.sigma, j.replicate, j.seed, r.solver_version,
-                    r.verdict, r.outcome, r.contact_time, r.decision_time, r.free_speed,
-                    r.threshold_speed, r.attachment_1, r.attachment_2, r.collision_steps,
-                    r.classifier, r.record
-             FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
-             JOIN sweeps s ON s.id = p.sweep_id WHERE s.name = ?1
-             ORDER BY p.L, p.sigma, p.alpha, p.beta, j.replicate",
-        )
-        .unwrap();
-    let rows = q
-        .query_map([sweep], |r| {
-            let mut cols = Vec::new();
-            for i in 0..18 {
-                cols.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
-            }
-            Ok((cols[..5].join(" "), cols[5..].join(" ")))
-        })
-        .unwrap();
-    rows.map(|r| r.unwrap()).collect()
 }
 
 fn count(db: &Path, sql: &str) -> i64 {

@@ -2,6 +2,8 @@
 //! scripts/slurm-local.sh (Debian's slurm-wlm, started here if it is not up; `.ci/run` starts it
 //! before the tests).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::Once;
@@ -473,5 +475,123 @@ fn array_tasks_respect_max_array_size_stop_cleanly_on_usr1_and_resume() {
         String::from_utf8_lossy(&c.stdout).contains("2 preps and 3 results new"),
         "{}",
         String::from_utf8_lossy(&c.stdout)
+    );
+}
+
+#[test]
+fn an_adaptive_sweep_runs_its_rounds_through_slurm_with_the_local_engine_s_rows() {
+    slurm_up();
+    let dir = workdir("adaptive");
+    let sweep = common::write_sweep(&dir, "slurm-adaptive", 16, common::ADAPTIVE);
+    let file = sweep.to_str().unwrap();
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            file,
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--watch",
+            "--poll",
+            "0.5",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Three rounds of 4 replicates, each submitted after the previous one was collected.
+    assert_eq!(text.matches("submitted").count(), 3, "{text}");
+    assert!(text.contains("every point is settled"), "{text}");
+    let db = dir.join("r.sqlite");
+    assert_eq!(db_count(&db, "SELECT COUNT(*) FROM jobs"), 48);
+    assert_eq!(db_count(&db, "SELECT COUNT(*) FROM results"), 48);
+    // The same sweep on the local engine: identical rows but for wall times and timestamps.
+    let local = cellsweep(&dir, &["run", file, "--db", "l.sqlite", "--workers", "2"]);
+    assert!(
+        local.status.success(),
+        "{}",
+        String::from_utf8_lossy(&local.stderr)
+    );
+    let rows = common::result_rows(&db, "slurm-adaptive");
+    assert_eq!(rows.len(), 48);
+    assert_eq!(
+        rows,
+        common::result_rows(&dir.join("l.sqlite"), "slurm-adaptive")
+    );
+
+    // Forged and foreign records in a result file are refused, each with its reason, and the
+    // store does not change: a job of another sweep, a job that does not exist, another seed,
+    // other parameters, and a collision claiming a verdict its prep does not have.
+    let other = common::write_sweep(&dir, "other", 1, "");
+    assert!(
+        cellsweep(&dir, &["run", other.to_str().unwrap(), "--db", "r.sqlite"])
+            .status
+            .success()
+    );
+    let foreign = db_count(
+        &db,
+        "SELECT MIN(j.id) FROM jobs j JOIN points p ON p.id = j.point_id JOIN sweeps s ON s.id = p.sweep_id WHERE s.name = 'other'",
+    );
+    let results = std::fs::read_dir(dir.join("cellsweep-runs/slurm-adaptive"))
+        .unwrap()
+        .flatten()
+        .find(|e| e.file_name().to_string_lossy().starts_with("sub-"))
+        .unwrap()
+        .path()
+        .join("results/collide-0.jsonl");
+    let text = std::fs::read_to_string(&results).unwrap();
+    let line: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    let mut forged = Vec::new();
+    let mut v = line.clone();
+    v["task"] = foreign.into();
+    forged.push(v);
+    let mut v = line.clone();
+    v["task"] = 999_999.into();
+    forged.push(v);
+    let mut v = line.clone();
+    v["result"]["seeds"]["collision"] = 12345.into();
+    forged.push(v);
+    let mut v = line.clone();
+    v["result"]["config"]["params"]["alpha"] = 0.3.into();
+    forged.push(v);
+    let mut v = line.clone();
+    v["result"]["verdict"] = "unstable".into();
+    forged.push(v);
+    let mut bytes = text.into_bytes();
+    for v in &forged {
+        bytes.extend_from_slice(format!("{v}\n").as_bytes());
+    }
+    std::fs::write(&results, bytes).unwrap();
+    let before = (
+        common::result_rows(&db, "slurm-adaptive"),
+        common::result_rows(&db, "other"),
+    );
+    let c = cellsweep(
+        &dir,
+        &["collect", "--db", "r.sqlite", "--sweep", "slurm-adaptive"],
+    );
+    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stderr));
+    let err = String::from_utf8_lossy(&c.stderr);
+    for why in [
+        "belongs to another sweep",
+        "no such job",
+        "collision seed 12345",
+        "parameters are not the job's",
+        "verdict \"unstable\"",
+    ] {
+        assert!(err.contains(why), "{why}: {err}");
+    }
+    assert_eq!(err.matches("refused").count(), 5, "{err}");
+    assert_eq!(
+        (
+            common::result_rows(&db, "slurm-adaptive"),
+            common::result_rows(&db, "other")
+        ),
+        before
     );
 }

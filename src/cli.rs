@@ -35,6 +35,9 @@ pub enum Command {
     /// two solver versions): counts, pairs that end alike, shifts in decision time, labels, and
     /// a test of whether the outcome statistics differ.
     Compare(CompareArgs),
+    /// Write one CSV row per finished replicate of a sweep (seeds, parameters, outcome, times,
+    /// attachments, free speed, prep hash, solver version): how results move and are shared.
+    Export(ExportArgs),
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
@@ -363,6 +366,18 @@ fn poll_seconds(s: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && (0.1..=86_400.0).contains(&x) => Ok(x),
         _ => Err(format!("{s:?} is not a number of seconds in [0.1, 86400]")),
     }
+}
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// The sweep to export (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// The CSV file to write (replaced atomically).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: std::path::PathBuf,
 }
 
 #[derive(Debug, Args)]

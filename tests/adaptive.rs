@@ -72,6 +72,52 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
         assert!(lo >= 0.55, "{p}");
     }
 
+    // So does status.
+    let st = cellsweep(&["status", "--db", db.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
+    assert_eq!(v[0]["adaptive"]["settled"], 4, "{v}");
+
+    // Export: one row per replicate, each naming the seed its job has in the store.
+    let csv = dir.join("adapt.csv");
+    let out = cellsweep(&[
+        "export",
+        "--db",
+        db.to_str().unwrap(),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("# cellsweep export format 1"));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 48);
+    for r in &rows {
+        let seed: u64 = r[col("collision_seed")].parse().unwrap();
+        let sql = format!(
+            "SELECT COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id WHERE j.seed = {} \
+             AND j.replicate = {} AND p.alpha = {}",
+            seed as i64,
+            r[col("replicate")],
+            r[col("alpha")]
+        );
+        assert_eq!(count(&db, &sql), 1, "{r:?}");
+        assert_eq!(r[col("outcome")], "undetermined");
+        assert_eq!(r[col("prep_hash")].len(), 16);
+        assert_eq!(r[col("params")], "\"{\"\"R0\"\":24.0}\"");
+    }
+
     // Resuming a settled sweep runs nothing and changes nothing.
     let before = result_rows(&db, "adapt");
     let again = cellsweep(&["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()]);

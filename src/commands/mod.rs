@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod counts;
+mod export;
 mod fit;
 mod model;
 mod plot;
@@ -24,6 +25,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Table(args) => table::run(args).map(|_| 0),
         Command::Fit(args) => fit::run(args),
         Command::Compare(args) => compare::run(args).map(|_| 0),
+        Command::Export(args) => export::run(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
         Command::Submit(args) => slurm::submit(args).map(|_| 0),

@@ -25,6 +25,26 @@ pub fn outcome_line(o: &OutcomeCounts) -> String {
     s
 }
 
+/// An adaptive sweep's points by standing (`None` for a fixed sweep, or another version).
+fn standings(
+    store: &Store,
+    sweep: &str,
+    version: &str,
+) -> anyhow::Result<Option<std::collections::BTreeMap<&'static str, usize>>> {
+    if version != SOLVER_VERSION {
+        return Ok(None);
+    }
+    let id = store.sweep_id(sweep)?;
+    let Some(st) = cellsweep_scheduler::Ledger::load(store, id, version)?.assess(store)? else {
+        return Ok(None);
+    };
+    let mut by = std::collections::BTreeMap::new();
+    for a in st {
+        *by.entry(a.standing.as_str()).or_default() += 1;
+    }
+    Ok(Some(by))
+}
+
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let store = Store::open(&args.db.db)?;
     let all = store.status()?;
@@ -36,6 +56,9 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 Ok(id) => store.arrays_of(id, &s.solver_version)?,
                 Err(_) => Vec::new(),
             };
+            if let Some(by) = standings(&store, &s.sweep, &s.solver_version)? {
+                v["adaptive"] = serde_json::json!(by);
+            }
             if !arrays.is_empty() {
                 let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
                 v["slurm"] = serde_json::json!({
@@ -69,6 +92,16 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         );
         println!("  preps    {} / {} done", s.preps_done, s.preps_total);
         println!("  outcomes {}", outcome_line(&s.outcomes));
+        if let Some(by) = standings(&store, &s.sweep, &s.solver_version)? {
+            // Jobs of open points' later rounds are not registered yet: the total grows.
+            println!(
+                "  adaptive points {} (open points get more rounds: the job total grows)",
+                by.iter()
+                    .map(|(k, n)| format!("{n} {k}"))
+                    .collect::<Vec<_>>()
+                    .join(" · ")
+            );
+        }
         if let Ok(id) = store.sweep_id(&s.sweep) {
             let arrays = store.arrays_of(id, &s.solver_version)?;
             if !arrays.is_empty() {

@@ -18,9 +18,7 @@ use crate::sweep::Sweep;
 
 /// FNV-1a, 64 bits: a stable hash of canonical text (not for security).
 pub fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
+    cellsweep_store::digest::fnv1a(text.as_bytes())
 }
 
 /// The identity of a prep: single-cell parameters (no sigma, no g) and the stages it runs.

@@ -9,7 +9,9 @@
 pub mod adaptive;
 pub mod binomial;
 pub mod compare;
+pub mod digest;
 pub mod error;
+pub mod export;
 pub mod fit;
 pub mod lifecycle;
 pub mod phase;

@@ -1,0 +1,133 @@
+//! One row per finished replicate, with everything needed to check it against the job it
+//! claims: the exchange format of `cellsweep export` (format version [`EXPORT_FORMAT`]).
+
+use std::collections::HashMap;
+
+use rusqlite::params;
+use serde::Serialize;
+
+use crate::digest::fnv1a;
+use crate::error::Result;
+use crate::store::{seed_from_sql, Store};
+
+/// Version of the exported columns; bumped on any change to them.
+pub const EXPORT_FORMAT: u32 = 1;
+
+/// One exported replicate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct ExportRow {
+    pub sweep: String,
+    pub alpha: f64,
+    pub beta: f64,
+    pub L: u32,
+    pub sigma: f64,
+    /// JSON of the point's parameters that differ from the paper's defaults (besides the axes).
+    pub params: String,
+    pub replicate: u32,
+    pub prep_seed: u64,
+    pub collision_seed: u64,
+    pub verdict: String,
+    pub outcome: Option<String>,
+    pub contact_time: Option<f64>,
+    pub decision_time: Option<f64>,
+    pub attachment_1: Option<String>,
+    pub attachment_2: Option<String>,
+    pub free_speed: Option<f64>,
+    pub threshold_speed: Option<f64>,
+    pub collision_steps: i64,
+    pub precision: String,
+    pub solver_version: String,
+    /// FNV-1a of the prepped cell's phi and P fields (little-endian f64), in hex.
+    pub prep_hash: String,
+    /// JSON of the classifier settings.
+    pub classifier: String,
+}
+
+impl Store {
+    /// Every finished replicate of a sweep under `version`, in grid and replicate order.
+    /// `defaults` is the JSON object of the default parameters: only differences are kept.
+    pub fn export_rows(
+        &self,
+        sweep_id: i64,
+        version: &str,
+        defaults: &serde_json::Value,
+    ) -> Result<Vec<ExportRow>> {
+        let name: String =
+            self.conn
+                .query_row("SELECT name FROM sweeps WHERE id = ?1", [sweep_id], |r| {
+                    r.get(0)
+                })?;
+        let mut q = self.conn.prepare(
+            "SELECT p.alpha, p.beta, p.L, p.sigma, p.params, j.replicate, pr.id, pr.seed, j.seed,
+                    r.verdict, r.outcome, r.contact_time, r.decision_time, r.attachment_1,
+                    r.attachment_2, r.free_speed, r.threshold_speed, r.collision_steps,
+                    r.solver_version, r.classifier
+             FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
+             JOIN preps pr ON pr.id = j.prep_id
+             WHERE p.sweep_id = ?1 AND r.solver_version = ?2
+             ORDER BY p.idx, j.replicate",
+        )?;
+        let mut hashes: HashMap<i64, String> = HashMap::new();
+        let mut out = Vec::new();
+        let mut rows = q.query(params![sweep_id, version])?;
+        while let Some(r) = rows.next()? {
+            let config: serde_json::Value = serde_json::from_str(&r.get::<_, String>(4)?)?;
+            let mut changed = serde_json::Map::new();
+            if let Some(p) = config["params"].as_object() {
+                for (k, v) in p {
+                    if !["alpha", "beta", "L", "sigma"].contains(&k.as_str()) && defaults[k] != *v {
+                        changed.insert(k.clone(), v.clone());
+                    }
+                }
+            }
+            let prep_id: i64 = r.get(6)?;
+            if !hashes.contains_key(&prep_id) {
+                hashes.insert(prep_id, self.prep_hash(prep_id)?);
+            }
+            out.push(ExportRow {
+                sweep: name.clone(),
+                alpha: r.get(0)?,
+                beta: r.get(1)?,
+                L: r.get(2)?,
+                sigma: r.get(3)?,
+                params: serde_json::Value::Object(changed).to_string(),
+                replicate: r.get(5)?,
+                prep_seed: seed_from_sql(r.get(7)?),
+                collision_seed: seed_from_sql(r.get(8)?),
+                verdict: r.get(9)?,
+                outcome: r.get(10)?,
+                contact_time: r.get(11)?,
+                decision_time: r.get(12)?,
+                attachment_1: r.get(13)?,
+                attachment_2: r.get(14)?,
+                free_speed: r.get(15)?,
+                threshold_speed: r.get(16)?,
+                collision_steps: r.get::<_, Option<i64>>(17)?.unwrap_or(0),
+                precision: config["protocol"]["precision"]
+                    .as_str()
+                    .unwrap_or("f64")
+                    .to_string(),
+                solver_version: r.get(18)?,
+                prep_hash: hashes[&prep_id].clone(),
+                classifier: r.get(19)?,
+            });
+        }
+        Ok(out)
+    }
+
+    /// FNV-1a of a done prep's phi and P bytes, in hex ("" for a prep that is not done).
+    pub fn prep_hash(&self, prep_id: i64) -> Result<String> {
+        let fields: Option<(Vec<u8>, Vec<u8>)> = self
+            .conn
+            .query_row(
+                "SELECT phi, p FROM preps WHERE id = ?1 AND state = 'done'",
+                [prep_id],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .ok();
+        Ok(fields.map_or(String::new(), |(phi, p)| {
+            format!("{:016x}", fnv1a(&[phi, p].concat()))
+        }))
+    }
+}

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
 use cellsweep_plot::{Color, Figure};
-use cellsweep_store::{fit::PAPER_A, fit::PAPER_B, fit_line, Counts, Label, Scales};
+use cellsweep_store::{fit::PAPER_A, fit::PAPER_B, fit_line, Counts, Label, Scales, Standing};
 
 use super::counts::{self, Loaded};
 use super::table::diagrams;
@@ -66,6 +66,15 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
             .iter()
             .filter(|c| c.L == l && c.sigma == sigma)
             .collect();
+        let open = |c: &Counts| {
+            loaded.standings.as_ref().is_some_and(|st| {
+                loaded
+                    .counts
+                    .iter()
+                    .zip(st)
+                    .any(|(k, a)| std::ptr::eq(k, c) && a.standing == Standing::Open)
+            })
+        };
         let points = pts
             .iter()
             .map(|c| {
@@ -82,6 +91,8 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
                     beta: c.beta,
                     mark: c.label().map(mark),
                     freq: [f(c.n_train), f(c.n_walk), f(c.n_reversal)],
+                    n: c.total(),
+                    open: open(c),
                 }
             })
             .collect();

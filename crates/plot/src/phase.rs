@@ -52,6 +52,10 @@ pub struct Point {
     pub mark: Option<Mark>,
     /// Frequencies of train, walk-past, reversal (NaN where no collision ran).
     pub freq: [f64; 3],
+    /// Replicates with a result.
+    pub n: u64,
+    /// An adaptive point that takes more rounds (its mark may still change).
+    pub open: bool,
 }
 
 /// A line beta(alpha), drawn dashed.
@@ -262,15 +266,19 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
         };
         if k == 0 {
             for pt in &d.points {
+                let r = (cw.min(ch) * 0.38).min(14.0);
                 if let Some(m) = pt.mark {
-                    draw_mark(
-                        &mut fig,
-                        m,
-                        p.px(pt.alpha),
-                        p.py(pt.beta),
-                        (cw.min(ch) * 0.38).min(14.0),
-                    );
+                    draw_mark(&mut fig, m, p.px(pt.alpha), p.py(pt.beta), r);
                 }
+                // Replicates per point, right of the mark; '+' marks an open adaptive point.
+                let n = format!("{}{}", pt.n, if pt.open { "+" } else { "" });
+                fig.text(
+                    p.px(pt.alpha) + r + 1.0,
+                    p.py(pt.beta) + r,
+                    6.0,
+                    Anchor::Start,
+                    n,
+                );
             }
         } else {
             for pt in &d.points {
@@ -327,6 +335,17 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
             x += 30.0 + 8.0 * m.name().len() as f64;
         }
     }
+    fig.text(
+        70.0,
+        y + 14.0,
+        8.0,
+        Anchor::Start,
+        if d.points.iter().any(|p| p.open) {
+            "numbers: replicates per point; + an adaptive point still taking rounds"
+        } else {
+            "numbers: replicates per point"
+        },
+    );
     for l in &d.lines {
         fig.push(Shape::Line {
             x1: x,

@@ -12,6 +12,8 @@ fn diagram() -> Diagram {
             beta: 10.0 + 4.0 * (k / 4) as f64,
             mark: Some(mark),
             freq: [0.2, 0.7, 0.1],
+            n: 96,
+            open: k == 0,
         });
     }
     Diagram {

@@ -38,6 +38,10 @@ pub enum Command {
     /// Write one CSV row per finished replicate of a sweep (seeds, parameters, outcome, times,
     /// attachments, free speed, prep hash, solver version): how results move and are shared.
     Export(ExportArgs),
+    /// Bring exported rows back into a store: registers the file's sweep, computes the preps
+    /// the rows start from, checks every row against the job it claims (seeds, parameters,
+    /// prep hash) and commits them all, or none if any is refused. Idempotent.
+    Import(ImportArgs),
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
@@ -378,6 +382,14 @@ pub struct ExportArgs {
     /// The CSV file to write (replaced atomically).
     #[arg(long, value_name = "FILE.csv")]
     pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct ImportArgs {
+    /// A file written by `cellsweep export`.
+    pub file: std::path::PathBuf,
+    #[command(flatten)]
+    pub db: DbArgs,
 }
 
 #[derive(Debug, Args)]

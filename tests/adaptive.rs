@@ -97,6 +97,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
         .next()
         .unwrap()
         .starts_with("# cellsweep export format 1"));
+    assert!(lines.next().unwrap().starts_with("# spec {"));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
     let rows: Vec<Vec<String>> = lines
@@ -117,6 +118,75 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
         assert_eq!(r[col("prep_hash")].len(), 16);
         assert_eq!(r[col("params")], "\"{\"\"R0\"\":24.0}\"");
     }
+
+    // Import into a new store: the sweep is registered from the file, its preps computed, and
+    // every row checked; exporting that store gives the same file. Importing again adds nothing.
+    let db2 = dir.join("imported.sqlite");
+    let imp = cellsweep(&[
+        "import",
+        csv.to_str().unwrap(),
+        "--db",
+        db2.to_str().unwrap(),
+    ]);
+    assert!(
+        imp.status.success(),
+        "{}",
+        String::from_utf8_lossy(&imp.stderr)
+    );
+    assert!(String::from_utf8_lossy(&imp.stdout).contains("imported 48 results"));
+    let csv2 = dir.join("again.csv");
+    assert!(cellsweep(&[
+        "export",
+        "--db",
+        db2.to_str().unwrap(),
+        "--out",
+        csv2.to_str().unwrap()
+    ])
+    .status
+    .success());
+    assert_eq!(std::fs::read_to_string(&csv2).unwrap(), text);
+    let imp = cellsweep(&[
+        "import",
+        csv.to_str().unwrap(),
+        "--db",
+        db2.to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&imp.stdout).contains("imported 0 results"));
+    assert!(String::from_utf8_lossy(&imp.stdout).contains("48 already"));
+    // A tampered row (another seed, another prep, another sweep's name) refuses the whole
+    // file: one reason per row, exit 1, nothing imported.
+    let seed_col = col("collision_seed");
+    for (k, tamper) in [
+        Box::new(move |r: &mut Vec<String>| r[seed_col] = "17".into())
+            as Box<dyn Fn(&mut Vec<String>)>,
+        Box::new(|r: &mut Vec<String>| r[20] = "0123456789abcdef".into()),
+        Box::new(|r: &mut Vec<String>| r[0] = "other".into()),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut bad: Vec<String> = text.lines().map(String::from).collect();
+        let mut cells: Vec<String> = bad[5].split(',').map(String::from).collect();
+        tamper(&mut cells);
+        bad[5] = cells.join(",");
+        let file = dir.join(format!("bad{k}.csv"));
+        std::fs::write(&file, bad.join("\n") + "\n").unwrap();
+        let db3 = dir.join(format!("bad{k}.sqlite"));
+        let out = cellsweep(&[
+            "import",
+            file.to_str().unwrap(),
+            "--db",
+            db3.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{k}: {err}");
+        assert!(
+            err.contains("refused") && err.contains("nothing was imported"),
+            "{k}: {err}"
+        );
+        assert_eq!(count(&db3, "SELECT COUNT(*) FROM results"), 0);
+    }
+    assert_eq!(header[20], "prep_hash");
 
     // Resuming a settled sweep runs nothing and changes nothing.
     let before = result_rows(&db, "adapt");

@@ -1,11 +1,16 @@
 //! `cellsweep export`: one CSV row per finished replicate (format in the first line).
 
 use anyhow::{bail, Context};
+use cellsweep_scheduler::wire::PrepPayload;
+use cellsweep_scheduler::{plan_targets, Ledger, Settlement, Sweep};
+use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::export::EXPORT_FORMAT;
+use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
+use cellsweep_store::JobState;
 use cellsweep_store::Store;
+use rayon::prelude::*;
 
-use crate::cli::ExportArgs;
+use crate::cli::{ExportArgs, ImportArgs};
 
 pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     let store = Store::open(&args.db.db)?;
@@ -33,6 +38,8 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
             file,
             "# cellsweep export format {EXPORT_FORMAT}; sweep {name:?}; {SOLVER_VERSION}"
         )?;
+        // The sweep's definition, so that `cellsweep import` can register it anywhere.
+        writeln!(file, "# spec {}", store.sweep_spec(id)?)?;
         let mut w = csv::Writer::from_writer(file);
         for r in &rows {
             w.serialize(r)?;
@@ -46,6 +53,128 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
         "wrote {} replicates of {name:?} to {}",
         rows.len(),
         out.display()
+    );
+    Ok(())
+}
+
+/// `cellsweep import`: register the file's sweep, compute the preps its rows need, check every
+/// row against the job it claims, and commit them all, or none if any is refused.
+pub fn import(args: ImportArgs) -> anyhow::Result<()> {
+    let file = args.file.display().to_string();
+    let text =
+        std::fs::read_to_string(&args.file).with_context(|| format!("cannot read {file}"))?;
+    let mut lines = text.lines();
+    let head = lines.next().unwrap_or("");
+    let expect = format!("# cellsweep export format {EXPORT_FORMAT};");
+    if !head.starts_with(&expect) {
+        bail!("{file}: line 1: not a cellsweep export of format {EXPORT_FORMAT} (expected {expect:?} ...)");
+    }
+    let spec = lines
+        .next()
+        .and_then(|l| l.strip_prefix("# spec "))
+        .with_context(|| format!("{file}: line 2: missing the sweep's definition (# spec ...)"))?;
+    let sweep: Sweep = serde_json::from_str(spec)
+        .map_err(|e| anyhow::anyhow!("{file}: line 2: malformed sweep definition: {e}"))?;
+    for p in sweep.points() {
+        sweep
+            .protocol
+            .validate(&p)
+            .map_err(|e| anyhow::anyhow!("{file}: line 2: sweep definition: {e}"))?;
+    }
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let mut rows: Vec<ExportRow> = Vec::new();
+    for (i, r) in reader.deserialize().enumerate() {
+        rows.push(r.map_err(|e| anyhow::anyhow!("{file}: row {}: {e}", i + 1))?);
+    }
+    // Register the sweep with every replicate the rows name (and at least its first round).
+    let points = sweep.points();
+    let mut targets = vec![sweep.initial_replicates(); points.len()];
+    for r in &rows {
+        let Some(i) = points
+            .iter()
+            .position(|p| (p.alpha, p.beta, p.L, p.sigma) == (r.alpha, r.beta, r.L, r.sigma))
+        else {
+            bail!(
+                "{file}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
+                r.alpha, r.beta, r.L, r.sigma, sweep.name
+            );
+        };
+        if r.replicate >= sweep.replicates {
+            bail!(
+                "{file}: replicate {} is beyond the sweep's {} per point",
+                r.replicate,
+                sweep.replicates
+            );
+        }
+        targets[i] = targets[i].max(r.replicate + 1);
+    }
+    let mut store = Store::open_or_create(&args.db.db)?;
+    let reg = store.register(&plan_targets(&sweep, &file, &|i| targets[i]), false)?;
+    let ledger = Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?;
+    // The rows' preps, computed here so that each row's prep hash can be checked.
+    let missing: Vec<_> = store
+        .preps_of(reg.sweep_id, SOLVER_VERSION)?
+        .into_iter()
+        .filter(|p| p.state != JobState::Done)
+        .collect();
+    if !missing.is_empty() {
+        eprintln!(
+            "computing {} preps to check the rows against (each a whole free motion, about a minute or two on one core)",
+            missing.len()
+        );
+    }
+    let computed: Vec<(i64, anyhow::Result<PrepPayload>)> = missing
+        .par_iter()
+        .map(|p| {
+            let run = || -> anyhow::Result<PrepPayload> {
+                let config: Config = serde_json::from_str(&p.config)?;
+                let prep = prepare(&config.params, &config.protocol, p.seed, &mut Silent)?;
+                Ok(PrepPayload::from_prep(&prep))
+            };
+            (p.id, run())
+        })
+        .collect();
+    for (id, payload) in computed {
+        let payload = payload.with_context(|| format!("prep {id}"))?;
+        if let Settlement::Refused(why) = ledger
+            .settle_prep(&mut store, id, &payload, 0.0)?
+            .settlement
+        {
+            bail!("{why}");
+        }
+    }
+    let mut refused = Vec::new();
+    let mut to_commit = Vec::new();
+    let mut already = 0;
+    for r in &rows {
+        match ledger.check_row(&store, r)? {
+            Ok(Some(job)) => to_commit.push((job, r)),
+            Ok(None) => already += 1,
+            Err(why) => refused.push(why),
+        }
+    }
+    if !refused.is_empty() {
+        for why in refused.iter().take(10) {
+            eprintln!("refused: {why}");
+        }
+        bail!(
+            "{file}: {} of {} rows do not match the jobs they claim; nothing was imported",
+            refused.len(),
+            rows.len()
+        );
+    }
+    let mut new = 0;
+    for (job, r) in to_commit {
+        if ledger.commit_row(&mut store, job, r)? == Settlement::New {
+            new += 1;
+        }
+    }
+    println!(
+        "imported {new} results of {:?} from {file} ({already} already in the store) into {}",
+        sweep.name,
+        args.db.db.display()
     );
     Ok(())
 }

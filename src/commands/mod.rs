@@ -26,6 +26,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Fit(args) => fit::run(args),
         Command::Compare(args) => compare::run(args).map(|_| 0),
         Command::Export(args) => export::run(args).map(|_| 0),
+        Command::Import(args) => export::import(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
         Command::Submit(args) => slurm::submit(args).map(|_| 0),

@@ -10,8 +10,9 @@
 
 use std::collections::HashMap;
 
-use cellsweep_solver::{Config, TrajectoryResult, Verdict};
+use cellsweep_solver::{Config, Params, TrajectoryResult, Verdict};
 use cellsweep_store::adaptive::kinds;
+use cellsweep_store::export::{changed_params, ExportRow};
 use cellsweep_store::{assess, Assessment, JobState, PointEnds, ResultRecord, Store};
 use serde_json::json;
 
@@ -361,5 +362,122 @@ impl Ledger {
         store.register(&new, false)?;
         self.settle_decided(store)?;
         Ok(added as usize)
+    }
+
+    /// Check an exported row (`cellsweep export`) against the job it claims: its sweep, point,
+    /// replicate, both seeds, the parameters that differ from the defaults, precision,
+    /// classifier, solver version, and the prep's verdict and field hash (so the prep must be
+    /// computed). Ok(Some(job)) for a row to commit, Ok(None) for one already in the store.
+    pub fn check_row(
+        &self,
+        store: &Store,
+        row: &ExportRow,
+    ) -> Result<Result<Option<i64>, String>, RunError> {
+        let at = format!(
+            "alpha = {}, beta = {}, L = {}, sigma = {}, replicate {}",
+            row.alpha, row.beta, row.L, row.sigma, row.replicate
+        );
+        let refuse = |why: String| Ok(Err(format!("{at}: {why}")));
+        if row.sweep != self.sweep.name {
+            return refuse(format!(
+                "a row of sweep {:?}, not {:?}",
+                row.sweep, self.sweep.name
+            ));
+        }
+        if row.solver_version != self.version {
+            return refuse(format!(
+                "solver version {:?}, this build is {:?}",
+                row.solver_version, self.version
+            ));
+        }
+        let axes = (row.alpha, row.beta, row.L, row.sigma);
+        let Some(job_id) = store.job_at(self.sweep_id, &self.version, axes, row.replicate)? else {
+            return refuse("no such job in the sweep".into());
+        };
+        let job = store
+            .job_identity(job_id)?
+            .expect("a job just found exists");
+        if job.seed != row.collision_seed {
+            return refuse(format!(
+                "collision seed {} is not the job's {}",
+                row.collision_seed, job.seed
+            ));
+        }
+        let prep = store.prep_identity(job.prep_id, self.sweep_id)?;
+        if prep.as_ref().map(|p| p.seed) != Some(row.prep_seed) {
+            return refuse(format!(
+                "prep seed {} is not the job's prep's",
+                row.prep_seed
+            ));
+        }
+        let config_json: serde_json::Value = serde_json::from_str(&job.config)?;
+        let defaults = serde_json::to_value(Params::default())?;
+        if changed_params(&config_json, &defaults) != row.params {
+            return refuse(format!("parameters {} are not the job's", row.params));
+        }
+        let config: Config = serde_json::from_str(&job.config)?;
+        if config.protocol.precision.as_str() != row.precision {
+            return refuse(format!("precision {} is not the job's", row.precision));
+        }
+        let classifier: Result<serde_json::Value, _> = serde_json::from_str(&row.classifier);
+        if classifier.ok() != Some(serde_json::to_value(&config.classifier)?) {
+            return refuse("classifier settings are not the job's".into());
+        }
+        let Some(verdict) = job.prep_verdict.as_deref() else {
+            return refuse("its prep is not computed yet".into());
+        };
+        let hash = store.prep_hash(job.prep_id)?;
+        if hash != row.prep_hash {
+            return refuse(format!(
+                "prep hash {} is not that of the prep computed here ({hash})",
+                row.prep_hash
+            ));
+        }
+        let outcome_ok = match row.outcome.as_deref() {
+            None => verdict != "ok",
+            Some(o) => {
+                verdict == "ok" && ["train", "walk_past", "reversal", "undetermined"].contains(&o)
+            }
+        };
+        if row.verdict != verdict || !outcome_ok {
+            return refuse(format!(
+                "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
+                row.verdict, row.outcome
+            ));
+        }
+        Ok(Ok((job.state != JobState::Done).then_some(job_id)))
+    }
+
+    /// Commit a row that [`Ledger::check_row`] passed, as the result of `job_id`.
+    pub fn commit_row(
+        &self,
+        store: &mut Store,
+        job_id: i64,
+        row: &ExportRow,
+    ) -> Result<Settlement, RunError> {
+        let mut record = serde_json::to_value(row)?;
+        record["imported"] = json!(true);
+        let rec = ResultRecord {
+            verdict: row.verdict.clone(),
+            outcome: row.outcome.clone(),
+            contact_time: row.contact_time,
+            decision_time: row.decision_time,
+            free_speed: row.free_speed,
+            threshold_speed: row.threshold_speed,
+            attachment: row
+                .attachment_1
+                .clone()
+                .zip(row.attachment_2.clone())
+                .map(|(a, b)| [a, b]),
+            collision_steps: row.collision_steps.max(0) as u64,
+            wall_s: 0.0,
+            classifier: row.classifier.clone(),
+            record: record.to_string(),
+        };
+        Ok(if store.collect_result(job_id, &self.version, &rec)? {
+            Settlement::New
+        } else {
+            Settlement::Already
+        })
     }
 }

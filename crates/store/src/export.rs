@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use rusqlite::params;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::digest::fnv1a;
 use crate::error::Result;
@@ -14,7 +14,8 @@ use crate::store::{seed_from_sql, Store};
 pub const EXPORT_FORMAT: u32 = 1;
 
 /// One exported replicate.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct ExportRow {
     pub sweep: String,
@@ -42,6 +43,20 @@ pub struct ExportRow {
     pub prep_hash: String,
     /// JSON of the classifier settings.
     pub classifier: String,
+}
+
+/// JSON of the parameters of a point's configuration (`{"params": {...}, ...}`) that differ
+/// from `defaults`, the grid axes left out.
+pub fn changed_params(config: &serde_json::Value, defaults: &serde_json::Value) -> String {
+    let mut changed = serde_json::Map::new();
+    if let Some(p) = config["params"].as_object() {
+        for (k, v) in p {
+            if !["alpha", "beta", "L", "sigma"].contains(&k.as_str()) && defaults[k] != *v {
+                changed.insert(k.clone(), v.clone());
+            }
+        }
+    }
+    serde_json::Value::Object(changed).to_string()
 }
 
 impl Store {
@@ -91,7 +106,7 @@ impl Store {
                 beta: r.get(1)?,
                 L: r.get(2)?,
                 sigma: r.get(3)?,
-                params: serde_json::Value::Object(changed).to_string(),
+                params: changed_params(&config, defaults),
                 replicate: r.get(5)?,
                 prep_seed: seed_from_sql(r.get(7)?),
                 collision_seed: seed_from_sql(r.get(8)?),
@@ -129,5 +144,28 @@ impl Store {
         Ok(fields.map_or(String::new(), |(phi, p)| {
             format!("{:016x}", fnv1a(&[phi, p].concat()))
         }))
+    }
+}
+
+impl Store {
+    /// The job of a sweep's point (by its axes) and replicate under `version`, if any.
+    pub fn job_at(
+        &self,
+        sweep_id: i64,
+        version: &str,
+        axes: (f64, f64, u32, f64),
+        replicate: u32,
+    ) -> Result<Option<i64>> {
+        use rusqlite::OptionalExtension;
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT j.id FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND p.alpha = ?3
+                   AND p.beta = ?4 AND p.L = ?5 AND p.sigma = ?6 AND j.replicate = ?7",
+                params![sweep_id, version, axes.0, axes.1, axes.2, axes.3, replicate],
+                |r| r.get(0),
+            )
+            .optional()?)
     }
 }

@@ -85,6 +85,9 @@ pub struct RunArgs {
     /// When the sweep is done, write its pictures into this folder (as `cellsweep plot`).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<std::path::PathBuf>,
+    /// Put the sweep's failed jobs and preps back to pending (attempts reset) and run them.
+    #[arg(long)]
+    pub retry_failed: bool,
 }
 
 #[derive(Debug, Args)]
@@ -94,6 +97,9 @@ pub struct StatusArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+    /// List every failed job and prep with its error.
+    #[arg(long)]
+    pub failed: bool,
 }
 
 /// Parameters shared by the commands that run the model.

@@ -321,8 +321,13 @@ fn a_crashed_worker_is_retried_and_a_persistent_crash_is_recorded() {
         ],
         &envs,
     );
-    assert!(out.status.success());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("1 jobs failed"));
+    // A run with failures exits 1 and says how to see and retry them.
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("1 jobs of \"crash\" failed") && err.contains("--retry-failed"),
+        "{err}"
+    );
     assert_eq!(
         db_query(&db2, "SELECT COUNT(*) FROM jobs WHERE state = 'failed'"),
         1
@@ -341,6 +346,44 @@ fn a_crashed_worker_is_retried_and_a_persistent_crash_is_recorded() {
         0
     );
     assert_eq!(db_query(&db2, "SELECT COUNT(*) FROM results"), 7);
+    // status --failed lists it with its error (text and JSON).
+    let st = cellsweep(&["status", "--db", db2.to_str().unwrap(), "--failed"], &[]);
+    let text = String::from_utf8_lossy(&st.stdout);
+    assert!(
+        text.contains("failed   job 2") && text.contains("test hook"),
+        "{text}"
+    );
+    let st = cellsweep(
+        &[
+            "status",
+            "--db",
+            db2.to_str().unwrap(),
+            "--failed",
+            "--json",
+        ],
+        &[],
+    );
+    let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
+    assert_eq!(v[0]["failures"][0]["id"], 2);
+    assert_eq!(v[0]["failures"][0]["replicate"], 1);
+    // --retry-failed runs it again (without the fault now): every job counted once, exit 0.
+    let out = cellsweep(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--db",
+            db2.to_str().unwrap(),
+            "--retry-failed",
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("retrying 1 failed"));
+    assert_each_job_counted_once(&db2);
 }
 
 #[test]

@@ -71,6 +71,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         );
     }
 
+    if args.retry_failed {
+        let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
+        println!("retrying {n} failed jobs and preps (attempts reset)");
+    }
     let workers = args
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -129,11 +133,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         );
     }
     let p = &report.progress;
-    if p.failed > 0 {
-        println!("{} jobs failed after retries; `cellsweep status` shows them, the store keeps their errors", p.failed);
-    }
     Ok(match report.ending {
-        Ending::Finished => 0,
         Ending::Interrupted => 130,
+        Ending::Finished if p.failed > 0 => {
+            eprintln!(
+                "error: {} jobs of {:?} failed after retries; `cellsweep status --failed` lists \
+                 them with their errors, `cellsweep run --retry-failed` runs them again",
+                p.failed, sweep.name
+            );
+            1
+        }
+        Ending::Finished => 0,
     })
 }

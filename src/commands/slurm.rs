@@ -55,6 +55,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
         dry_run: args.dry_run,
     };
+    opts.validate().map_err(anyhow::Error::msg)?;
     if args.dry_run && !args.db.db.exists() {
         // Nothing to read: show the scripts of a fresh sweep without creating a store.
         let jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();

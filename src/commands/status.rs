@@ -59,6 +59,10 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             if let Some(by) = standings(&store, &s.sweep, &s.solver_version)? {
                 v["adaptive"] = serde_json::json!(by);
             }
+            if args.failed {
+                let id = store.sweep_id(&s.sweep)?;
+                v["failures"] = serde_json::to_value(store.failures(id, &s.solver_version)?)?;
+            }
             if !arrays.is_empty() {
                 let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
                 v["slurm"] = serde_json::json!({
@@ -120,6 +124,23 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                     },
                 );
                 println!("  slurm    arrays {} · tasks: {queue}", ids.join(", "));
+            }
+        }
+        if args.failed {
+            let id = store.sweep_id(&s.sweep)?;
+            for f in store.failures(id, &s.solver_version)? {
+                println!(
+                    "  failed   {} {} at alpha = {}, beta = {}, L = {}, sigma = {}{} after {} attempts: {}",
+                    f.kind,
+                    f.id,
+                    f.alpha,
+                    f.beta,
+                    f.L,
+                    f.sigma,
+                    f.replicate.map_or(String::new(), |r| format!(", replicate {r}")),
+                    f.attempts,
+                    f.error
+                );
             }
         }
         match (s.jobs_per_s, s.eta_s) {

@@ -67,6 +67,36 @@ pub fn max_array_size() -> Option<usize> {
         .and_then(|v| v.trim().parse().ok())
 }
 
+/// A word for the shell, in single quotes (a quote inside becomes '\'').
+pub fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+impl SubmitOptions {
+    /// Every value that reaches a script must stay on its line: no newline, carriage return
+    /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command).
+    pub fn validate(&self) -> Result<(), String> {
+        let mut values: Vec<(&str, String)> = vec![
+            ("--run-dir", self.run_dir.display().to_string()),
+            (
+                "the cellsweep executable's path",
+                self.exe.display().to_string(),
+            ),
+        ];
+        values.extend(self.partition.iter().map(|p| ("--partition", p.clone())));
+        values.extend(self.time.iter().map(|t| ("--time", t.clone())));
+        values.extend(self.sbatch_args.iter().map(|a| ("--sbatch-arg", a.clone())));
+        for (flag, v) in values {
+            if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
+                return Err(format!(
+                    "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The sbatch script of one array.
 pub fn script(
     opts: &SubmitOptions,
@@ -97,8 +127,8 @@ pub fn script(
     }
     s += &format!(
         "exec {} worker --slurm {} --kind {kind}\n",
-        opts.exe.display(),
-        sub_dir.display()
+        shell_quote(&opts.exe.display().to_string()),
+        shell_quote(&sub_dir.display().to_string())
     );
     s
 }
@@ -335,6 +365,15 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
         .append(true)
         .open(&results)
         .map_err(|e| io(e, &results))?;
+    // A task killed mid-write left a torn last line: start on a fresh one, so that the torn
+    // record stays alone (and is skipped by `collect`) instead of swallowing the next.
+    let torn = std::fs::read(&results)
+        .map(|b| b.last().is_some_and(|&c| c != b'\n'))
+        .unwrap_or(false);
+    if torn {
+        out.write_all(b"\n").map_err(|e| io(e, &results))?;
+    }
+    let mut cache = crate::worker::PrepCache::new();
     for line in text.lines().filter(|l| !l.trim().is_empty()) {
         if STOP.load(Ordering::SeqCst) {
             eprintln!("SIGUSR1: stopping before the time limit; the rest is resubmitted by `cellsweep submit`");
@@ -369,13 +408,7 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
                 }
             }
         }
-        let mut buf = Vec::new();
-        crate::worker::serve(
-            std::io::Cursor::new(serde_json::to_vec(&req).map_err(|e| e.to_string())?),
-            &mut buf,
-        )
-        .map_err(|e| e.to_string())?;
-        let resp: Response = serde_json::from_slice(&buf).map_err(|e| e.to_string())?;
+        let resp = crate::worker::answer(req, &mut cache);
         if let Response::Prep { task, prep, .. } = &resp {
             let path = preps_dir.join(format!("{task}.json"));
             // The prep file itself is the result.
@@ -386,7 +419,9 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
                     .as_bytes(),
             )?;
         } else {
-            out.write_all(&buf).map_err(|e| io(e, &results))?;
+            let mut line = serde_json::to_vec(&resp).map_err(|e| e.to_string())?;
+            line.push(b'\n');
+            out.write_all(&line).map_err(|e| io(e, &results))?;
             out.sync_data().map_err(|e| io(e, &results))?;
         }
     }

@@ -188,10 +188,25 @@ impl Sweep {
         cx.unknown_keys(&top, "", TOP_KEYS)?;
 
         let name = match top.get("name") {
-            Some(Value::String(s)) if !s.trim().is_empty() => s.trim().to_string(),
-            Some(_) => return Err(cx.err("name", "must be a non-empty string")),
+            Some(Value::String(s)) => s.clone(),
+            Some(_) => return Err(cx.err("name", "must be a string")),
             None => return Err(cx.err("name", "missing")),
         };
+        // The name becomes a directory, a Slurm job name and a word in scripts.
+        let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
+        if name.is_empty()
+            || name.len() > 100
+            || name.starts_with('.')
+            || !name.chars().all(allowed)
+        {
+            return Err(cx.err(
+                "name",
+                format!(
+                    "{name:?} is not a sweep name: 1 to 100 of the characters A-Z a-z 0-9 . _ -, \
+                     not starting with a dot"
+                ),
+            ));
+        }
         let seed = match top.get("seed") {
             Some(v) => cx.uint(v, "seed", 0)?,
             None => return Err(cx.err("seed", "missing")),

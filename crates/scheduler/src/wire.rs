@@ -12,7 +12,9 @@ use serde::{Deserialize, Serialize};
 pub struct PrepPayload {
     pub seed: u64,
     pub verdict: Verdict,
+    #[serde(with = "cellsweep_solver::nonfinite::option")]
     pub verdict_time: Option<f64>,
+    #[serde(with = "cellsweep_solver::nonfinite::option")]
     pub free_speed: Option<f64>,
     pub relaxed: FieldSummary,
     pub prepped: FieldSummary,

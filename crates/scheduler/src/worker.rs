@@ -38,31 +38,19 @@ fn test_hooks(req: &Request) {
     }
 }
 
+/// The preps a worker keeps, newest last.
+pub type PrepCache = VecDeque<(i64, Prep)>;
+
 /// Serve requests from `input` until it closes.
 pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()> {
-    let mut cache: VecDeque<(i64, Prep)> = VecDeque::new();
+    let mut cache = PrepCache::new();
     for line in input.lines() {
         let line = line?;
         if line.trim().is_empty() {
             continue;
         }
         let response = match serde_json::from_str::<Request>(&line) {
-            Ok(req) => {
-                test_hooks(&req);
-                let task = req.task();
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, &mut cache)))
-                    .unwrap_or_else(|panic| {
-                        let msg = panic
-                            .downcast_ref::<String>()
-                            .cloned()
-                            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                            .unwrap_or_else(|| "unknown panic".into());
-                        Response::Failed {
-                            task,
-                            error: format!("solver panicked: {msg}"),
-                        }
-                    })
-            }
+            Ok(req) => answer(req, &mut cache),
             Err(e) => Response::Failed {
                 task: -1,
                 error: format!("malformed request: {e}"),
@@ -72,6 +60,25 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()>
         output.flush()?;
     }
     Ok(())
+}
+
+/// The response to one request (a solver panic becomes a failure, never a crash).
+pub fn answer(req: Request, cache: &mut PrepCache) -> Response {
+    test_hooks(&req);
+    let task = req.task();
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, cache))).unwrap_or_else(
+        |panic| {
+            let msg = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            Response::Failed {
+                task,
+                error: format!("solver panicked: {msg}"),
+            }
+        },
+    )
 }
 
 fn remember(cache: &mut VecDeque<(i64, Prep)>, id: i64, prep: Prep) {

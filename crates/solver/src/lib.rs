@@ -26,6 +26,7 @@ pub mod kernel;
 pub mod lattice;
 pub mod monitor;
 pub mod noise;
+pub mod nonfinite;
 pub mod observables;
 pub mod params;
 pub mod patch;

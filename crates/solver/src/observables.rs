@@ -12,17 +12,25 @@ use crate::real::Real;
 pub struct FieldSummary {
     pub steps: u64,
     /// sum phi
+    #[serde(with = "crate::nonfinite")]
     pub sum_phi: f64,
     /// S = sum phi^2
+    #[serde(with = "crate::nonfinite")]
     pub area: f64,
     /// Ad = sum phi^2 (3 - 2 phi) chi
+    #[serde(with = "crate::nonfinite")]
     pub adhesive_area: f64,
     /// Ad restricted to the bottom fiber's rows (the single fiber's with one fiber).
+    #[serde(with = "crate::nonfinite")]
     pub adhesive_area_bottom: f64,
     /// Ad restricted to the top fiber's rows (the single fiber's with one fiber).
+    #[serde(with = "crate::nonfinite")]
     pub adhesive_area_top: f64,
+    #[serde(with = "crate::nonfinite")]
     pub xbar: f64,
+    #[serde(with = "crate::nonfinite")]
     pub ybar: f64,
+    #[serde(with = "crate::nonfinite")]
     pub max_phi: f64,
 }
 

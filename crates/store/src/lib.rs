@@ -28,7 +28,7 @@ pub use fit::{fit_line, Column, Fit, NoFit, Scales};
 pub use lifecycle::JobState;
 pub use phase::{wilson, Counts, Fraction, Label};
 pub use slurm::SlurmArray;
-pub use status::{OutcomeCounts, PointCounts, StateCounts, SweepStatus};
+pub use status::{Failure, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{
     bytes_to_f64s, f64s_to_bytes, now, JobIdentity, JobTask, NewJob, NewPoint, NewPrep, NewSweep,
     PrepIdentity, PrepRecord, PrepTask, Registration, ResultRecord, Store,

@@ -241,3 +241,73 @@ impl Store {
             })?)
     }
 }
+
+/// A job or prep that failed for good, with its error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Failure {
+    /// `job` or `prep`.
+    pub kind: String,
+    pub id: i64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub L: u32,
+    pub sigma: f64,
+    /// The replicate (jobs only).
+    pub replicate: Option<u32>,
+    pub attempts: u32,
+    pub error: String,
+}
+
+impl Store {
+    /// The failed jobs and preps of a sweep under `version`, preps first.
+    pub fn failures(&self, sweep_id: i64, version: &str) -> Result<Vec<Failure>> {
+        let mut q = self.conn.prepare(
+            "SELECT 'prep', pr.id, MIN(p.alpha), MIN(p.beta), MIN(p.L), MIN(p.sigma), NULL,
+                    pr.attempts, COALESCE(pr.error, '')
+             FROM preps pr JOIN jobs j ON j.prep_id = pr.id JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND pr.state = 'failed'
+             GROUP BY pr.id
+             UNION ALL
+             SELECT 'job', j.id, p.alpha, p.beta, p.L, p.sigma, j.replicate, j.attempts,
+                    COALESCE(j.error, '')
+             FROM jobs j JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'failed'",
+        )?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            Ok(Failure {
+                kind: r.get(0)?,
+                id: r.get(1)?,
+                alpha: r.get(2)?,
+                beta: r.get(3)?,
+                L: r.get(4)?,
+                sigma: r.get(5)?,
+                replicate: r.get(6)?,
+                attempts: r.get(7)?,
+                error: r.get(8)?,
+            })
+        })?;
+        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+    }
+
+    /// Put a sweep's failed jobs and preps back to pending with their attempts reset (their
+    /// errors are kept until they run again). Returns how many.
+    pub fn retry_failed(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
+        let tx = self.conn.transaction()?;
+        let preps = tx.execute(
+            "UPDATE preps SET state = 'pending', attempts = 0
+             WHERE state = 'failed' AND solver_version = ?2 AND id IN (
+                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1)",
+            params![sweep_id, version],
+        )?;
+        let jobs = tx.execute(
+            "UPDATE jobs SET state = 'pending', attempts = 0
+             WHERE state = 'failed' AND solver_version = ?2
+               AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
+            params![sweep_id, version],
+        )?;
+        tx.commit()?;
+        Ok(preps + jobs)
+    }
+}

@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::wire::PrepPayload;
-use cellsweep_scheduler::{plan_targets, Ledger, Settlement, Sweep};
+use cellsweep_scheduler::{plan_targets, Ledger, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
@@ -110,6 +110,7 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
         }
         targets[i] = targets[i].max(r.replicate + 1);
     }
+    let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     let reg = store.register(&plan_targets(&sweep, &file, &|i| targets[i]), false)?;
     let ledger = Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?;

@@ -3,7 +3,7 @@
 use std::time::Duration;
 
 use anyhow::Context;
-use cellsweep_scheduler::{plan, run_sweep, Ending, RunOptions, Sweep, WorkerCommand};
+use cellsweep_scheduler::{plan, run_sweep, Ending, RunOptions, StoreLock, Sweep, WorkerCommand};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::Store;
 
@@ -14,6 +14,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     let sweep = Sweep::load(&args.sweep)?;
     let new = plan(&sweep, &args.sweep.display().to_string());
     let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
+    // One writer per store: a second run (or submit, collect, import) is refused here.
+    let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     let reg = store.register(&new, args.replace)?;
     if let Some(old) = &reg.archived_as {

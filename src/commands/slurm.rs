@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::slurm::{self, SubmitOptions};
-use cellsweep_scheduler::{plan, Sweep};
+use cellsweep_scheduler::{plan, StoreLock, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::Store;
 
@@ -95,6 +95,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
+    let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     let reg = store.register(&new, args.replace)?;
     if let Some(from) = reg.grown_from {
@@ -160,6 +161,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
 
 pub fn collect(args: CollectArgs) -> anyhow::Result<()> {
     let mut store = Store::open(&args.db.db)?;
+    let _lock = StoreLock::acquire(&args.db.db)?;
     let names = match &args.sweep {
         Some(n) => vec![n.clone()],
         None => store.sweep_names()?,

@@ -85,6 +85,10 @@ pub struct RunArgs {
     /// When the sweep is done, write its pictures into this folder (as `cellsweep plot`).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<std::path::PathBuf>,
+    /// Seconds that jobs in flight may take to finish after Ctrl-C or SIGTERM (their results
+    /// are kept); a second signal stops at once.
+    #[arg(long, default_value_t = 10.0, value_name = "SECONDS", value_parser = grace_seconds)]
+    pub grace: f64,
     /// Put the sweep's failed jobs and preps back to pending (attempts reset) and run them.
     #[arg(long)]
     pub retry_failed: bool,
@@ -369,6 +373,13 @@ pub struct SubmitArgs {
     /// Seconds between looks at the queue with --watch.
     #[arg(long, default_value_t = 30.0, value_name = "SECONDS", value_parser = poll_seconds)]
     pub poll: f64,
+}
+
+fn grace_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && (0.0..=86_400.0).contains(&x) => Ok(x),
+        _ => Err(format!("{s:?} is not a number of seconds in [0, 86400]")),
+    }
 }
 
 fn poll_seconds(s: &str) -> Result<f64, String> {

@@ -99,7 +99,8 @@ impl SweepBar {
 
     pub fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
-            bar.finish();
+            // Left where it is: an interrupted sweep shows what it did, not a full bar.
+            bar.abandon();
         } else if self.last_line.is_some() {
             self.print_line();
         }

@@ -244,3 +244,100 @@ fn submit_dry_run_leaves_the_store_byte_for_byte_as_it_was() {
     assert_eq!(std::fs::read(dir.join("r.sqlite")).unwrap(), before);
     assert!(!dir.join("cellsweep-runs").exists());
 }
+
+/// Start `run` of a sweep whose job 1 hangs its worker, and wait until other jobs are done.
+fn hung_run(dir: &std::path::Path, grace: &str) -> std::process::Child {
+    let sweep = write_sweep(dir, "hang", 3, "");
+    std::fs::write(
+        &sweep,
+        std::fs::read_to_string(&sweep)
+            .unwrap()
+            .replace("collide_time = 2", "collide_time = 10"),
+    )
+    .unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(dir)
+        .args([
+            "run",
+            "hang.toml",
+            "--db",
+            "r.sqlite",
+            "--workers",
+            "2",
+            "--grace",
+            grace,
+        ])
+        .env("CELLSWEEP_TEST_HANG_TASK", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let db = dir.join("r.sqlite");
+    let start = Instant::now();
+    while !(db.exists()
+        && query(&db, "SELECT COUNT(*) FROM results") >= 2
+        && query(
+            &db,
+            "SELECT COUNT(*) FROM jobs WHERE id = 1 AND state = 'running'",
+        ) == 1)
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the run never got going"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child
+}
+
+fn signal(child: &std::process::Child, sig: &str) {
+    assert!(Command::new("kill")
+        .args([sig, &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+}
+
+#[test]
+fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
+    let dir = workdir("ledger", "grace");
+    let mut child = hung_run(&dir, "2");
+    let db = dir.join("r.sqlite");
+    let asked = Instant::now();
+    signal(&child, "-INT");
+    let code = child.wait().unwrap();
+    let took = asked.elapsed();
+    assert_eq!(code.code(), Some(130));
+    // The hung job had 2 s, not the hour of its job timeout.
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    let mut out = String::new();
+    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut out).unwrap();
+    assert!(out.contains("no new jobs; waiting up to 2 s"), "{out}");
+    assert!(out.contains("grace period over"), "{out}");
+    assert_eq!(
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'"),
+        0
+    );
+    assert_eq!(
+        query(&db, "SELECT state = 'pending' FROM jobs WHERE id = 1"),
+        1
+    );
+    assert_eq!(
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        query(&db, "SELECT COUNT(*) FROM results")
+    );
+
+    // A second signal does not wait for the grace.
+    let dir = workdir("ledger", "twice");
+    let mut child = hung_run(&dir, "600");
+    let asked = Instant::now();
+    signal(&child, "-INT");
+    std::thread::sleep(Duration::from_millis(300));
+    signal(&child, "-TERM");
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    assert!(
+        asked.elapsed() < Duration::from_secs(10),
+        "{:?}",
+        asked.elapsed()
+    );
+}

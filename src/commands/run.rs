@@ -5,7 +5,7 @@ use std::time::Duration;
 use anyhow::Context;
 use cellsweep_scheduler::{plan, run_sweep, Ending, RunOptions, StoreLock, Sweep, WorkerCommand};
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::Store;
+use cellsweep_store::{Standing, Store};
 
 use crate::cli::RunArgs;
 use crate::progress::SweepBar;
@@ -90,6 +90,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
             exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
             args: vec!["worker".into()],
         },
+        grace: Duration::from_secs_f64(args.grace),
     };
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
@@ -113,7 +114,18 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         println!("{}", super::table::grid_text(&loaded.counts, l, sigma));
     }
     println!("{}", super::table::LEGEND);
-    if let Some(dir) = &args.plot {
+    let unfinished = report.ending == Ending::Interrupted
+        || loaded
+            .standings
+            .as_ref()
+            .is_some_and(|st| st.iter().any(|a| a.standing == Standing::Open));
+    if let (Some(dir), true) = (&args.plot, unfinished) {
+        println!(
+            "the sweep is not finished: no figures written to {} (run again to finish it; \
+             `cellsweep plot` draws what there is, with the replicates per point)",
+            dir.display()
+        );
+    } else if let Some(dir) = &args.plot {
         for f in super::plot::write_plots(&loaded, dir)? {
             println!("wrote {}", f.display());
         }

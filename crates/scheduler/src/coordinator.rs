@@ -4,7 +4,9 @@
 //!
 //! Faults: a failed attempt (worker crash, timeout, solver error) sends the job back to `pending`
 //! until `max_attempts` attempts have failed, then marks it `failed` with its error. Ctrl-C or
-//! SIGTERM stops dispatching, stops the workers and puts their jobs back to `pending`. A
+//! SIGTERM stops dispatching at once; jobs in flight get `grace` to finish (their results are
+//! kept), then the workers are killed and their jobs put back to `pending`; a second signal
+//! stops at once. A
 //! coordinator killed outright leaves jobs `running`; the next run recovers them first.
 
 use std::collections::{HashMap, HashSet, VecDeque};
@@ -26,6 +28,9 @@ pub struct RunOptions {
     pub job_timeout: Duration,
     pub max_attempts: u32,
     pub worker: WorkerCommand,
+    /// After Ctrl-C or SIGTERM, how long jobs in flight may take to finish (their results are
+    /// kept) before the workers are killed.
+    pub grace: Duration,
 }
 
 /// A snapshot of a run's progress, for display.
@@ -367,6 +372,7 @@ pub async fn run_sweep(
         + run.waiting.values().map(|v| v.len()).sum::<usize>();
     let n_workers = opts.workers.max(1).min(work.max(1));
     let (event_tx, mut events) = mpsc::unbounded_channel();
+    let (cancel, cancelled) = tokio::sync::watch::channel(false);
     let mut workers: HashMap<usize, Worker> = HashMap::new();
     let mut handles = Vec::new();
     if work > 0 {
@@ -378,6 +384,7 @@ pub async fn run_sweep(
                 opts.job_timeout,
                 rx,
                 event_tx.clone(),
+                cancelled.clone(),
             )));
             workers.insert(
                 i,
@@ -394,11 +401,13 @@ pub async fn run_sweep(
     let mut interrupt = Box::pin(interrupted());
     let mut ending = Ending::Finished;
     let mut fatal: Option<RunError> = None;
+    // After the first signal: no more dispatch; in-flight jobs may finish until this deadline.
+    let mut grace_until: Option<tokio::time::Instant> = None;
     loop {
-        // Give every idle worker something to do.
+        // Give every idle worker something to do (unless stopping).
         let mut ids: Vec<usize> = workers.keys().copied().collect();
         ids.sort_unstable();
-        for id in ids {
+        for id in ids.into_iter().filter(|_| grace_until.is_none()) {
             let w = workers.get_mut(&id).expect("worker");
             if w.busy.is_some() {
                 continue;
@@ -427,6 +436,12 @@ pub async fn run_sweep(
         if run.progress.running == 0 {
             break;
         }
+        let grace = async {
+            match grace_until {
+                Some(t) => tokio::time::sleep_until(t).await,
+                None => std::future::pending().await,
+            }
+        };
         tokio::select! {
             ev = events.recv() => match ev {
                 Some(Event::Reply { worker, response }) => {
@@ -462,12 +477,28 @@ pub async fn run_sweep(
             },
             _ = &mut interrupt => {
                 ending = Ending::Interrupted;
+                if grace_until.is_some() {
+                    reporter.note("second signal: stopping at once");
+                    break;
+                }
+                reporter.note(&format!(
+                    "interrupted: no new jobs; waiting up to {} s for the {} in flight to finish \
+                     (Ctrl-C again to stop at once)",
+                    opts.grace.as_secs_f64(),
+                    run.progress.running
+                ));
+                grace_until = Some(tokio::time::Instant::now() + opts.grace);
+                interrupt = Box::pin(interrupted());
+            }
+            _ = grace => {
+                reporter.note("grace period over: stopping the workers");
                 break;
             }
         }
     }
-    // Stop the workers: closing their request channels ends their tasks, which kill the
-    // processes; then whatever was running goes back to pending.
+    // Stop the workers: cancelling kills the processes of unfinished calls at once, and closing
+    // their request channels ends their tasks; then whatever was running goes back to pending.
+    let _ = cancel.send(true);
     drop(workers);
     for h in handles {
         let _ = h.await;

@@ -161,13 +161,15 @@ fn describe_status(s: std::process::ExitStatus) -> String {
     }
 }
 
-/// Run worker `index`: serve requests from `requests` until it closes.
+/// Run worker `index`: serve requests from `requests` until it closes or `cancel` turns true
+/// (then the process is killed at once, whatever it is doing).
 pub async fn worker_task(
     index: usize,
     cmd: WorkerCommand,
     timeout: Duration,
     mut requests: mpsc::Receiver<Request>,
     events: mpsc::UnboundedSender<Event>,
+    mut cancel: tokio::sync::watch::Receiver<bool>,
 ) {
     let spawn = |events: &mpsc::UnboundedSender<Event>| match Process::spawn(&cmd) {
         Ok(p) => Some(p),
@@ -183,7 +185,12 @@ pub async fn worker_task(
         return;
     };
     while let Some(req) = requests.recv().await {
-        match proc.call(&req, timeout).await {
+        // A cancelled run does not wait for the answer: the process is killed below.
+        let answer = tokio::select! {
+            a = proc.call(&req, timeout) => a,
+            _ = cancel.wait_for(|&c| c) => break,
+        };
+        match answer {
             Ok(response) => {
                 let _ = events.send(Event::Reply {
                     worker: index,

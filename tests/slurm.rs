@@ -595,3 +595,60 @@ fn an_adaptive_sweep_runs_its_rounds_through_slurm_with_the_local_engine_s_rows(
         before
     );
 }
+
+#[test]
+fn a_stale_run_directory_of_another_sweep_is_refused_by_submit_and_collect() {
+    slurm_up();
+    let dir = workdir("stale");
+    write_sweep_of(&dir, "stale", 1);
+    let out = cellsweep(
+        &dir,
+        &["submit", "s.toml", "--backend", "slurm", "--db", "a.sqlite"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    wait_for(&slurm_ids(&out.stdout));
+    let run_dir = dir.join("cellsweep-runs/stale");
+    let listing = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let before = listing(&run_dir);
+    assert!(before.contains(&"sweep.uid".to_string()), "{before:?}");
+    // A new store and a same-name sweep with another grid, into the default run directory:
+    // refused before anything is written, and nothing of the old files is ingested.
+    std::fs::write(
+        dir.join("s.toml"),
+        std::fs::read_to_string(dir.join("s.toml"))
+            .unwrap()
+            .replace("alpha = [0.1, 0.12]", "alpha = [0.12, 0.14]"),
+    )
+    .unwrap();
+    let out = cellsweep(
+        &dir,
+        &["submit", "s.toml", "--backend", "slurm", "--db", "b.sqlite"],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("holds the files of another sweep"), "{err}");
+    assert_eq!(listing(&run_dir), before);
+    assert_eq!(
+        db_count(&dir.join("b.sqlite"), "SELECT COUNT(*) FROM results"),
+        0
+    );
+    // The first store still collects its own directory.
+    let c = cellsweep(&dir, &["collect", "--db", "a.sqlite"]);
+    assert!(
+        String::from_utf8_lossy(&c.stdout).contains("4 results new"),
+        "{}",
+        String::from_utf8_lossy(&c.stdout)
+    );
+}

@@ -133,6 +133,56 @@ pub fn script(
     s
 }
 
+/// The file in a run directory that names the sweep whose files it holds.
+const STAMP: &str = "sweep.uid";
+
+/// Check that `run_dir` belongs to the sweep with `uid`: its stamp names it, or the directory
+/// is new or empty (then it is stamped, unless `dry_run`). A directory of another sweep (a
+/// stale one from an earlier store, say) is refused before anything is read or written.
+pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), String> {
+    let stamp = run_dir.join(STAMP);
+    match std::fs::read_to_string(&stamp) {
+        Ok(found) if found.trim() == uid => Ok(()),
+        Ok(found) => Err(format!(
+            "{} holds the files of another sweep (uid {}, this one is {uid}); choose another \
+             --run-dir or remove that directory",
+            run_dir.display(),
+            found.trim()
+        )),
+        Err(_) => {
+            let empty = std::fs::read_dir(run_dir).map_or(true, |mut d| d.next().is_none());
+            if !empty {
+                return Err(format!(
+                    "{} is not empty and has no {STAMP}: it is not this sweep's run directory; \
+                     choose another --run-dir",
+                    run_dir.display()
+                ));
+            }
+            if !dry_run {
+                std::fs::create_dir_all(run_dir).map_err(|e| io(e, run_dir))?;
+                write_atomic(&stamp, format!("{uid}\n").as_bytes())?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Whether `run_dir` is stamped with `uid` (what `collect` reads only then).
+pub fn run_dir_is(run_dir: &Path, uid: &str) -> Result<(), String> {
+    match std::fs::read_to_string(run_dir.join(STAMP)) {
+        Ok(found) if found.trim() == uid => Ok(()),
+        Ok(found) => Err(format!(
+            "{} holds the files of another sweep (uid {}, this one is {uid}); not read",
+            run_dir.display(),
+            found.trim()
+        )),
+        Err(_) => Err(format!(
+            "{} has no {STAMP} naming this sweep; not read",
+            run_dir.display()
+        )),
+    }
+}
+
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let tmp = path.with_extension("tmp");
     std::fs::write(&tmp, bytes).map_err(|e| io(e, &tmp))?;
@@ -193,6 +243,10 @@ pub fn submit(
 ) -> Result<Submission, String> {
     let e = |x: cellsweep_store::StoreError| x.to_string();
     let preps_dir = opts.run_dir.join("preps");
+    // (A dry run of a sweep never submitted has no uid yet: nothing to compare with.)
+    if let Some(uid) = store.sweep_uid(sweep_id, !opts.dry_run).map_err(e)? {
+        claim_run_dir(&opts.run_dir, &uid, opts.dry_run)?;
+    }
     if !opts.dry_run {
         // Work left `running` by a local run that was killed is unfinished: submit it too.
         store.recover_running(sweep_id, version).map_err(e)?;
@@ -485,6 +539,14 @@ pub fn collect(
     let e = |x: crate::error::RunError| x.to_string();
     let ledger = Ledger::load(store, sweep_id, version).map_err(e)?;
     let mut c = Collected::default();
+    let uid = store
+        .sweep_uid(sweep_id, true)
+        .map_err(|x| x.to_string())?
+        .expect("created");
+    if let Err(why) = run_dir_is(run_dir, &uid) {
+        c.problems.push(why);
+        return Ok(c);
+    }
     let preps = store
         .preps_of(sweep_id, version)
         .map_err(|x| x.to_string())?;

@@ -866,3 +866,39 @@ impl Store {
         Ok(out)
     }
 }
+
+impl Store {
+    /// The sweep's uid, a random identity that names its Slurm run directories: created on
+    /// first use unless `create` is false (then `None` for a sweep that has none yet).
+    pub fn sweep_uid(&mut self, sweep_id: i64, create: bool) -> Result<Option<String>> {
+        let key = format!("sweep_uid:{sweep_id}");
+        let found: Option<String> = self
+            .conn
+            .query_row("SELECT value FROM meta WHERE key = ?1", [&key], |r| {
+                r.get(0)
+            })
+            .optional()?;
+        if found.is_some() || !create {
+            return Ok(found);
+        }
+        // Unique enough for a stamp: the time to the nanosecond, the process, the store's path.
+        let nanos = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let seed = format!(
+            "{nanos} {} {} {sweep_id}",
+            std::process::id(),
+            self.path.display()
+        );
+        let uid = format!(
+            "{:016x}{:016x}",
+            crate::digest::fnv1a(seed.as_bytes()),
+            crate::digest::fnv1a(format!("{seed} second half").as_bytes())
+        );
+        self.conn.execute(
+            "INSERT INTO meta (key, value) VALUES (?1, ?2)",
+            params![key, uid],
+        )?;
+        Ok(Some(uid))
+    }
+}

@@ -7,7 +7,7 @@ mod common;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{cellsweep_in, query, workdir, write_sweep};
+use common::{cellsweep_in, query, try_query, workdir, write_sweep};
 
 #[test]
 fn a_second_writer_is_refused_while_readers_keep_working() {
@@ -30,7 +30,7 @@ fn a_second_writer_is_refused_while_readers_keep_working() {
         .unwrap();
     let db = dir.join("r.sqlite");
     let start = Instant::now();
-    while !(db.exists() && query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'") > 0) {
+    while try_query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'").unwrap_or(0) == 0 {
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "the first run never ran a job"
@@ -274,12 +274,9 @@ fn hung_run(dir: &std::path::Path, grace: &str) -> std::process::Child {
         .unwrap();
     let db = dir.join("r.sqlite");
     let start = Instant::now();
-    while !(db.exists()
-        && query(&db, "SELECT COUNT(*) FROM results") >= 2
-        && query(
-            &db,
-            "SELECT COUNT(*) FROM jobs WHERE id = 1 AND state = 'running'",
-        ) == 1)
+    let running = "SELECT COUNT(*) FROM jobs WHERE id = 1 AND state = 'running'";
+    while !(try_query(&db, "SELECT COUNT(*) FROM results").unwrap_or(0) >= 2
+        && try_query(&db, running) == Some(1))
     {
         assert!(
             start.elapsed() < Duration::from_secs(120),

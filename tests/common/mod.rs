@@ -71,8 +71,13 @@ pub fn cellsweep_in(dir: &Path, args: &[&str]) -> std::process::Output {
 
 /// One value of a query.
 pub fn query(db: &Path, sql: &str) -> i64 {
+    try_query(db, sql).unwrap_or_else(|| panic!("{}: {sql} failed", db.display()))
+}
+
+/// One value of a query, or None while the store is not there yet (for polling a live run).
+pub fn try_query(db: &Path, sql: &str) -> Option<i64> {
     let c = rusqlite::Connection::open_with_flags(db, rusqlite::OpenFlags::SQLITE_OPEN_READ_ONLY)
-        .unwrap();
-    c.busy_timeout(std::time::Duration::from_secs(5)).unwrap();
-    c.query_row(sql, [], |r| r.get(0)).unwrap()
+        .ok()?;
+    c.busy_timeout(std::time::Duration::from_secs(5)).ok()?;
+    c.query_row(sql, [], |r| r.get(0)).ok()
 }

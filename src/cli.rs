@@ -69,18 +69,18 @@ pub struct RunArgs {
     #[command(flatten)]
     pub db: DbArgs,
     /// Worker processes (default: the number of cores).
-    #[arg(long)]
-    pub workers: Option<usize>,
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub workers: Option<u16>,
     /// Register this sweep even though a different sweep has its name; the old one keeps its
     /// results under a new name.
     #[arg(long)]
     pub replace: bool,
     /// Seconds one job may take before its worker is killed and the job retried (default: the
     /// sweep file's [run] job_timeout, else 3600).
-    #[arg(long)]
+    #[arg(long, value_parser = job_timeout_flag)]
     pub job_timeout: Option<f64>,
     /// Failed attempts before a job is marked failed (default: the sweep file's, else 3).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub max_attempts: Option<u32>,
     /// When the sweep is done, write its pictures into this folder (as `cellsweep plot`).
     #[arg(long, value_name = "DIR")]
@@ -218,6 +218,13 @@ pub enum Format {
     Json,
 }
 
+/// What `fit` prints: a fit has no table to give as CSV.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FitFormat {
+    Text,
+    Json,
+}
+
 #[derive(Debug, Args)]
 pub struct TableArgs {
     #[command(flatten)]
@@ -238,10 +245,10 @@ pub struct FitArgs {
     pub source: CountsSource,
     /// text or json.
     #[arg(long, value_enum, default_value = "text")]
-    pub format: Format,
+    pub format: FitFormat,
     /// Bootstrap resamples for the 95% intervals.
-    #[arg(long, default_value_t = 1000)]
-    pub bootstrap: usize,
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub bootstrap: u32,
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -352,11 +359,11 @@ pub struct SubmitArgs {
     #[arg(long)]
     pub time: Option<String>,
     /// Collision jobs per array task (raised if the array would exceed MaxArraySize).
-    #[arg(long, default_value_t = 8)]
-    pub jobs_per_task: usize,
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub jobs_per_task: u32,
     /// Most array tasks running at once (Slurm's %N throttle).
-    #[arg(long)]
-    pub max_array: Option<usize>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub max_array: Option<u32>,
     /// Extra #SBATCH line, e.g. --sbatch-arg=--account=abc (repeatable).
     #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
     pub sbatch_args: Vec<String>,
@@ -373,6 +380,13 @@ pub struct SubmitArgs {
     /// Seconds between looks at the queue with --watch.
     #[arg(long, default_value_t = 30.0, value_name = "SECONDS", value_parser = poll_seconds)]
     pub poll: f64,
+}
+
+fn job_timeout_flag(s: &str) -> Result<f64, String> {
+    let x: f64 = s
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number of seconds"))?;
+    cellsweep_scheduler::sweep::job_timeout(x)
 }
 
 fn grace_seconds(s: &str) -> Result<f64, String> {

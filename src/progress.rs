@@ -108,12 +108,12 @@ impl SweepBar {
 
     fn print_line(&self) {
         let p = &self.last;
-        println!(
+        say(&format!(
             "progress: {}/{} jobs | {}",
             p.jobs_done,
             p.jobs_total,
             Self::message(p)
-        );
+        ));
     }
 }
 
@@ -145,7 +145,14 @@ impl cellsweep_scheduler::Reporter for SweepBar {
     fn note(&mut self, message: &str) {
         match &self.bar {
             Some(bar) => bar.println(message),
-            None => println!("{message}"),
+            None => say(message),
         }
     }
+}
+
+/// A line on stdout that never panics: a run whose output pipe was closed (`| head`) goes on
+/// and finishes its jobs, with the store kept consistent.
+fn say(line: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stdout().lock(), "{line}");
 }

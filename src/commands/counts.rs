@@ -83,19 +83,33 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
     })
 }
 
-/// Parse a counts CSV: a header naming the columns (any order, extra columns ignored).
+/// Most replicates one point of a counts file may hold (a bound that keeps sums exact).
+const MAX_COUNT: u64 = 1_000_000_000;
+
+/// Parse a counts CSV (the `csv` crate: quoting, a UTF-8 byte-order mark): a header naming the
+/// columns (any order, extra columns ignored), lines starting with `#` skipped. Every value is
+/// checked: finite axes in range, whole counts below [`MAX_COUNT`], each point once.
 pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
     let file = path.display();
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
-    let Some((_, header)) = lines.next() else {
-        bail!("{file}: empty file")
-    };
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |name: &str| cols.iter().position(|c| *c == name);
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {file}"))?;
+    let text =
+        String::from_utf8(bytes).map_err(|e| anyhow::anyhow!("{file}: not UTF-8 text: {e}"))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let cols: Vec<String> = reader
+        .headers()
+        .map_err(|e| anyhow::anyhow!("{file}: line 1: {e}"))?
+        .iter()
+        .map(String::from)
+        .collect();
+    if cols.iter().all(|c| c.is_empty()) {
+        bail!("{file}: empty file");
+    }
+    let find = |name: &str| cols.iter().position(|c| c == name);
     let required = [
         "alpha",
         "beta",
@@ -116,38 +130,46 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
         find("n_breakup"),
         find("free_speed"),
     );
-    let mut out = Vec::new();
-    for (i, line) in lines {
-        let n = i + 1;
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let cell = |c: usize| cells.get(c).copied().unwrap_or("");
-        let num = |c: usize| -> anyhow::Result<f64> {
-            cell(c)
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .with_context(|| {
-                    format!(
-                        "{file}: line {n}: {} = {:?} is not a number",
-                        cols[c],
-                        cell(c)
-                    )
-                })
+    let mut out: Vec<Counts> = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
+        let n = record.position().map_or(0, |p| p.line());
+        let cell = |c: usize| record.get(c).unwrap_or("");
+        let num = |c: usize, lo: f64, hi: f64| -> anyhow::Result<f64> {
+            match cell(c).parse::<f64>() {
+                Ok(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
+                Ok(_) => bail!(
+                    "{file}: line {n}: {} = {:?} is outside [{lo}, {hi}]",
+                    cols[c],
+                    cell(c)
+                ),
+                Err(_) => bail!(
+                    "{file}: line {n}: {} = {:?} is not a number",
+                    cols[c],
+                    cell(c)
+                ),
+            }
         };
         let count = |c: usize| -> anyhow::Result<u64> {
-            cell(c).parse::<u64>().with_context(|| {
-                format!(
+            match cell(c).parse::<u64>() {
+                Ok(k) if k <= MAX_COUNT => Ok(k),
+                Ok(_) => bail!(
+                    "{file}: line {n}: {} = {:?} is more than {MAX_COUNT}",
+                    cols[c],
+                    cell(c)
+                ),
+                Err(_) => bail!(
                     "{file}: line {n}: {} = {:?} is not a count",
                     cols[c],
                     cell(c)
-                )
-            })
+                ),
+            }
         };
         let opt_count = |c: Option<usize>| -> anyhow::Result<u64> {
             c.filter(|&c| !cell(c).is_empty()).map_or(Ok(0), count)
         };
-        let l = num(idx[2])?;
-        if l.fract() != 0.0 || l < 0.0 {
+        let l = num(idx[2], 0.0, 4096.0)?;
+        if l.fract() != 0.0 {
             bail!("{file}: line {n}: L = {l} is not a whole number");
         }
         let verdict = match label_col.map(cell).unwrap_or("") {
@@ -158,11 +180,11 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
                 None => bail!("{file}: line {n}: unknown label {s:?}"),
             },
         };
-        out.push(Counts {
-            alpha: num(idx[0])?,
-            beta: num(idx[1])?,
+        let c = Counts {
+            alpha: num(idx[0], 0.0, 100.0)?,
+            beta: num(idx[1], -1e6, 1e6)?,
             L: l as u32,
-            sigma: num(idx[3])?,
+            sigma: num(idx[3], 0.0, 1e6)?,
             n_train: count(idx[4])?,
             n_walk: count(idx[5])?,
             n_reversal: count(idx[6])?,
@@ -170,8 +192,20 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
             n_unstable: opt_count(unstable_col)?,
             n_breakup: opt_count(breakup_col)?,
             verdict,
-            free_speed: speed_col.and_then(|c| cell(c).parse().ok()),
-        });
+            free_speed: speed_col
+                .and_then(|c| cell(c).parse().ok())
+                .filter(|x: &f64| x.is_finite()),
+        };
+        if out
+            .iter()
+            .any(|o| (o.alpha, o.beta, o.L, o.sigma) == (c.alpha, c.beta, c.L, c.sigma))
+        {
+            bail!(
+                "{file}: line {n}: the point alpha = {}, beta = {}, L = {}, sigma = {} appears twice",
+                c.alpha, c.beta, c.L, c.sigma
+            );
+        }
+        out.push(c);
     }
     if out.is_empty() {
         bail!("{file}: no data rows");

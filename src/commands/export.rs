@@ -112,6 +112,7 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     }
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
+    store.check_integrity()?;
     let reg = store.register(&plan_targets(&sweep, &file, &|i| targets[i]), false)?;
     let ledger = Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?;
     // The rows' preps, computed here so that each row's prep hash can be checked.

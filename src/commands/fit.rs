@@ -4,7 +4,7 @@ use cellsweep_store::{fit_line, Column};
 use serde_json::json;
 
 use super::counts;
-use crate::cli::{FitArgs, Format};
+use crate::cli::{FitArgs, FitFormat};
 
 fn column_line(c: &Column) -> String {
     match (c.beta_star, &c.skipped) {
@@ -24,9 +24,14 @@ fn column_line(c: &Column) -> String {
 
 pub fn run(args: FitArgs) -> anyhow::Result<i32> {
     let loaded = counts::load(&args.source)?;
-    match fit_line(&loaded.counts, &loaded.scales, args.bootstrap, args.seed) {
+    match fit_line(
+        &loaded.counts,
+        &loaded.scales,
+        args.bootstrap as usize,
+        args.seed,
+    ) {
         Ok(fit) => {
-            if args.format == Format::Json {
+            if args.format == FitFormat::Json {
                 println!("{}", serde_json::to_string_pretty(&fit)?);
             } else {
                 println!("beta_crit = a alpha~/L~ + b, fitted to {} (alpha~ = 2 pi R0 d alpha_eff, L~ = L/R0):", loaded.name);
@@ -50,7 +55,7 @@ pub fn run(args: FitArgs) -> anyhow::Result<i32> {
             Ok(0)
         }
         Err(no) => {
-            if args.format == Format::Json {
+            if args.format == FitFormat::Json {
                 println!(
                     "{}",
                     serde_json::to_string_pretty(

@@ -17,6 +17,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     // One writer per store: a second run (or submit, collect, import) is refused here.
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
+    store.check_integrity()?;
     let reg = store.register(&new, args.replace)?;
     if let Some(old) = &reg.archived_as {
         println!(
@@ -77,15 +78,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
         println!("retrying {n} failed jobs and preps (attempts reset)");
     }
-    let workers = args
-        .workers
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let workers = args.workers.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        usize::from,
+    );
     let opts = RunOptions {
         workers,
         job_timeout: Duration::from_secs_f64(
-            args.job_timeout.unwrap_or(sweep.run.job_timeout).max(0.001),
+            // Both checked to lie in (0, 30 days] by the flag's parser and the sweep file's.
+            args.job_timeout.unwrap_or(sweep.run.job_timeout),
         ),
-        max_attempts: args.max_attempts.unwrap_or(sweep.run.max_attempts).max(1),
+        max_attempts: args.max_attempts.unwrap_or(sweep.run.max_attempts),
         worker: WorkerCommand {
             exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
             args: vec!["worker".into()],
@@ -97,6 +100,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         .build()
         .context("cannot start the async runtime")?;
     let mut bar = SweepBar::new();
+    crate::on_broken_pipe(crate::OnBrokenPipe::Fail);
     let report = runtime.block_on(run_sweep(
         &mut store,
         reg.sweep_id,
@@ -105,6 +109,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         &mut bar,
     ));
     bar.finish();
+    // The jobs are settled: from here a closed pipe may end the process quietly.
+    crate::on_broken_pipe(crate::OnBrokenPipe::Die);
     let report = report?;
 
     super::status::print_point_counts(&store, reg.sweep_id, &sweep.name)?;

@@ -49,8 +49,8 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         run_dir: run_dir.clone(),
         partition: args.partition.clone(),
         time: args.time.clone(),
-        jobs_per_task: args.jobs_per_task,
-        max_running: args.max_array,
+        jobs_per_task: args.jobs_per_task as usize,
+        max_running: args.max_array.map(|n| n as usize),
         sbatch_args: args.sbatch_args.clone(),
         exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
         dry_run: args.dry_run,
@@ -70,7 +70,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
                 &opts,
                 &sub,
                 "collide",
-                jobs.div_ceil(args.jobs_per_task.max(1)),
+                jobs.div_ceil(args.jobs_per_task as usize),
                 &sweep.name
             )
         );
@@ -97,6 +97,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
     }
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
+    store.check_integrity()?;
     let reg = store.register(&new, args.replace)?;
     if let Some(from) = reg.grown_from {
         println!(
@@ -162,6 +163,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
 pub fn collect(args: CollectArgs) -> anyhow::Result<()> {
     let mut store = Store::open(&args.db.db)?;
     let _lock = StoreLock::acquire(&args.db.db)?;
+    store.check_integrity()?;
     let names = match &args.sweep {
         Some(n) => vec![n.clone()],
         None => store.sweep_names()?,

@@ -11,7 +11,7 @@ pub struct Axis {
 }
 
 /// Most points one axis may have.
-pub const MAX_AXIS_POINTS: usize = 100_000;
+pub const MAX_AXIS_POINTS: usize = 1_000;
 
 /// A value rounded to 12 significant digits: `0.10 + 5 x 0.02` becomes exactly `0.2`.
 pub fn clean(x: f64) -> f64 {
@@ -33,6 +33,11 @@ pub fn range(from: f64, to: f64, step: f64) -> Result<Vec<f64>, String> {
         return Err(format!("to = {to} is below from = {from}"));
     }
     let n = (to - from) / step;
+    if !(n < MAX_AXIS_POINTS as f64) {
+        return Err(format!(
+            "(to - from) / step = {n:e}: more than {MAX_AXIS_POINTS} points"
+        ));
+    }
     let k = n.round();
     if (n - k).abs() > 1e-6 {
         return Err(format!(
@@ -53,6 +58,12 @@ pub fn parse_axis(v: &Value) -> Result<Axis, String> {
         Value::Array(items) => {
             if items.is_empty() {
                 return Err("is empty".into());
+            }
+            if items.len() > MAX_AXIS_POINTS {
+                return Err(format!(
+                    "{} values: more than {MAX_AXIS_POINTS}",
+                    items.len()
+                ));
             }
             let mut out = Vec::with_capacity(items.len());
             for item in items {
@@ -110,6 +121,12 @@ mod tests {
         assert!(range(0.1, 0.2, 0.0).unwrap_err().contains("step"));
         assert!(range(0.2, 0.1, 0.02).unwrap_err().contains("below"));
         assert!(range(0.1, 0.2, 0.03).unwrap_err().contains("whole"));
+        assert!(range(0.1, 0.2, 1e-300)
+            .unwrap_err()
+            .contains("more than 1000"));
+        assert!(range(0.0, 1000.0, 1.0)
+            .unwrap_err()
+            .contains("more than 1000"));
         assert!(parse_axis(&Value::Array(vec![]))
             .unwrap_err()
             .contains("empty"));

@@ -106,6 +106,30 @@ const TOP_KEYS: &[&str] = &[
 ];
 const GRID_KEYS: &[&str] = &["alpha", "beta", "L", "sigma"];
 
+/// Most replicates per point (and preps per point).
+pub const MAX_REPLICATES: u64 = 10_000;
+/// Most grid points of one sweep.
+pub const MAX_POINTS: u64 = 100_000;
+/// Most jobs (points x replicates) of one sweep.
+pub const MAX_JOBS: u64 = 10_000_000;
+/// Largest fiber spacing and lattice side, in sites.
+pub const MAX_SITES: u64 = 4_096;
+/// Longest job timeout: 30 days.
+pub const MAX_JOB_TIMEOUT: f64 = 30.0 * 86_400.0;
+/// Most attempts of one job.
+pub const MAX_ATTEMPTS: u64 = 100;
+
+/// A job timeout in seconds, checked: finite, > 0, at most [`MAX_JOB_TIMEOUT`].
+pub fn job_timeout(x: f64) -> Result<f64, String> {
+    if x.is_finite() && x > 0.0 && x <= MAX_JOB_TIMEOUT {
+        Ok(x)
+    } else {
+        Err(format!(
+            "{x} is not a number of seconds in (0, {MAX_JOB_TIMEOUT}] (30 days)"
+        ))
+    }
+}
+
 /// A number (integer or float) from a TOML value.
 pub(crate) fn number(v: &Value) -> Option<f64> {
     match v {
@@ -211,12 +235,15 @@ impl Sweep {
             Some(v) => cx.uint(v, "seed", 0)?,
             None => return Err(cx.err("seed", "missing")),
         };
-        let replicates = top
-            .get("replicates")
-            .map_or(Ok(96), |v| cx.uint(v, "replicates", 1))?;
-        let preps_per_point = top
-            .get("preps_per_point")
-            .map_or(Ok(1), |v| cx.uint(v, "preps_per_point", 1))?;
+        let bounded = |key: &str, default: u64| -> Result<u64, SweepError> {
+            let n = top.get(key).map_or(Ok(default), |v| cx.uint(v, key, 1))?;
+            if n > MAX_REPLICATES {
+                return Err(cx.err(key, format!("{n} is more than {MAX_REPLICATES}")));
+            }
+            Ok(n)
+        };
+        let replicates = bounded("replicates", 96)?;
+        let preps_per_point = bounded("preps_per_point", 1)?;
         if preps_per_point > replicates {
             return Err(cx.err(
                 "preps_per_point",
@@ -246,6 +273,9 @@ impl Sweep {
             let values = axis("L")?.values;
             let mut out = Vec::new();
             for l in values {
+                if l > MAX_SITES as f64 {
+                    return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
+                }
                 if l.fract() != 0.0 || l < 0.0 {
                     return Err(cx.err(
                         "grid.L",
@@ -305,11 +335,17 @@ impl Sweep {
                 let full = format!("protocol.{key}");
                 match key.as_str() {
                     "single_lattice" | "pair_lattice" => {
+                        let side = |x: &Value| -> Result<usize, SweepError> {
+                            let n = cx.uint(x, &full, 2)?;
+                            if n > MAX_SITES {
+                                return Err(
+                                    cx.err(&full, format!("{n} is more than {MAX_SITES} sites"))
+                                );
+                            }
+                            Ok(n as usize)
+                        };
                         let pair = match v.as_array().map(|a| a.as_slice()) {
-                            Some([a, b]) => [
-                                cx.uint(a, &full, 2)? as usize,
-                                cx.uint(b, &full, 2)? as usize,
-                            ],
+                            Some([a, b]) => [side(a)?, side(b)?],
                             _ => return Err(cx.err(full, "must be [NX, NY]")),
                         };
                         if key == "single_lattice" {
@@ -365,6 +401,10 @@ impl Sweep {
                 if x < 0.0 {
                     return Err(cx.err(full, format!("{x} must be >= 0")));
                 }
+                // A zero window would make every velocity 0 and every collision undetermined.
+                if x == 0.0 && key.ends_with("_window") {
+                    return Err(cx.err(full, "must be > 0 (tau0)"));
+                }
                 *match key.as_str() {
                     "contact_overlap" => &mut classifier.contact_overlap,
                     "speed_fraction" => &mut classifier.speed_fraction,
@@ -415,13 +455,19 @@ impl Sweep {
         if let Some(t) = cx.table(&top, "run")? {
             cx.unknown_keys(t, "run.", &["job_timeout", "max_attempts"])?;
             if let Some(v) = t.get("job_timeout") {
-                run.job_timeout = cx.num(v, "run.job_timeout")?;
-                if run.job_timeout <= 0.0 {
-                    return Err(cx.err("run.job_timeout", "must be > 0 seconds"));
-                }
+                run.job_timeout = number(v)
+                    .ok_or_else(|| cx.err("run.job_timeout", "must be a number"))
+                    .and_then(|x| job_timeout(x).map_err(|p| cx.err("run.job_timeout", p)))?;
             }
             if let Some(v) = t.get("max_attempts") {
-                run.max_attempts = cx.uint(v, "run.max_attempts", 1)? as u32;
+                let n = cx.uint(v, "run.max_attempts", 1)?;
+                if n > MAX_ATTEMPTS {
+                    return Err(cx.err(
+                        "run.max_attempts",
+                        format!("{n} is more than {MAX_ATTEMPTS}"),
+                    ));
+                }
+                run.max_attempts = n as u32;
             }
         }
 
@@ -437,6 +483,23 @@ impl Sweep {
             adaptive,
             run,
         };
+        let g = &sweep.grid;
+        let points = [g.alpha.len(), g.beta.len(), g.L.len(), g.sigma.len()]
+            .iter()
+            .fold(1u64, |n, &k| n.saturating_mul(k as u64));
+        if points > MAX_POINTS {
+            return Err(cx.err("grid", format!("{points} points is more than {MAX_POINTS}")));
+        }
+        let jobs = points.saturating_mul(sweep.replicates as u64);
+        if jobs > MAX_JOBS {
+            return Err(cx.err(
+                "replicates",
+                format!(
+                    "{points} points x {} replicates = {jobs} jobs is more than {MAX_JOBS}",
+                    sweep.replicates
+                ),
+            ));
+        }
         // Every point must be a valid model: the first invalid one names the key to fix.
         for point in sweep.points() {
             sweep.protocol.validate(&point).map_err(|e| {

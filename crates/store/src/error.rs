@@ -7,6 +7,10 @@ use thiserror::Error;
 pub enum StoreError {
     #[error("no database at {0} (run a sweep first, or pass --db PATH)")]
     Missing(PathBuf),
+    #[error("{0} is a directory, not a database file (pass --db DIR/NAME.sqlite)")]
+    IsDirectory(PathBuf),
+    #[error("cannot create the database {path}: the directory {dir} does not exist")]
+    NoDirectory { path: PathBuf, dir: PathBuf },
     #[error("{path} is not a cellsweep database ({reason}); it was left untouched")]
     NotOurs { path: PathBuf, reason: String },
     #[error("{path} is corrupt or not a database ({reason}); it was left untouched")]

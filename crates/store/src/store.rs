@@ -159,6 +159,14 @@ impl Store {
     /// Open the store at `path`, creating it if the file does not exist (or is empty).
     /// An existing file that is not a cellsweep database is refused and left untouched.
     pub fn open_or_create(path: &Path) -> Result<Store> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if !dir.is_dir() {
+                return Err(StoreError::NoDirectory {
+                    path: path.to_path_buf(),
+                    dir: dir.to_path_buf(),
+                });
+            }
+        }
         let fresh = match std::fs::metadata(path) {
             Ok(m) => m.len() == 0,
             Err(_) => true,
@@ -188,6 +196,9 @@ impl Store {
         if !path.exists() {
             return Err(StoreError::Missing(path.to_path_buf()));
         }
+        if path.is_dir() {
+            return Err(StoreError::IsDirectory(path.to_path_buf()));
+        }
         let conn = Connection::open_with_flags(
             path,
             OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
@@ -200,13 +211,45 @@ impl Store {
             conn,
             path: path.to_path_buf(),
         };
-        store.check_identity()?;
-        store.configure()?;
+        // Any SQLite error while reading what the file is means it is not a sound store.
+        let named = |e: StoreError| match e {
+            StoreError::Sql(e) => StoreError::Corrupt {
+                path: path.to_path_buf(),
+                reason: e.to_string(),
+            },
+            other => other,
+        };
+        store.check_identity().map_err(named)?;
+        store.configure().map_err(named)?;
         Ok(store)
     }
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// SQLite's `PRAGMA quick_check`: a writer runs it before it writes, so that a damaged
+    /// file is reported and left as it is instead of written into.
+    pub fn check_integrity(&self) -> Result<()> {
+        let mut q = self.conn.prepare("PRAGMA quick_check")?;
+        let problems: Vec<String> = q
+            .query_map([], |r| r.get::<_, String>(0))
+            .map_err(|e| StoreError::Corrupt {
+                path: self.path.clone(),
+                reason: e.to_string(),
+            })?
+            .collect::<rusqlite::Result<_>>()
+            .map_err(|e| StoreError::Corrupt {
+                path: self.path.clone(),
+                reason: e.to_string(),
+            })?;
+        if problems.len() == 1 && problems[0] == "ok" {
+            return Ok(());
+        }
+        Err(StoreError::Corrupt {
+            path: self.path.clone(),
+            reason: format!("integrity check: {}", problems.join("; ")),
+        })
     }
 
     fn check_identity(&self) -> Result<()> {
@@ -259,7 +302,9 @@ impl Store {
     }
 
     fn configure(&self) -> Result<()> {
-        self.conn.busy_timeout(std::time::Duration::from_secs(10))?;
+        // Another writer holding the database (a backup, a query tool) is waited on, up to a
+        // minute, before an operation fails.
+        self.conn.busy_timeout(std::time::Duration::from_secs(60))?;
         self.conn
             .execute_batch("PRAGMA foreign_keys = ON; PRAGMA synchronous = NORMAL;")?;
         Ok(())

@@ -33,7 +33,8 @@ pub fn range(from: f64, to: f64, step: f64) -> Result<Vec<f64>, String> {
         return Err(format!("to = {to} is below from = {from}"));
     }
     let n = (to - from) / step;
-    if !(n < MAX_AXIS_POINTS as f64) {
+    // (n is finite here: from, to and step are, and step > 0.)
+    if n >= MAX_AXIS_POINTS as f64 {
         return Err(format!(
             "(to - from) / step = {n:e}: more than {MAX_AXIS_POINTS} points"
         ));

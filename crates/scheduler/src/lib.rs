@@ -14,6 +14,7 @@ pub mod ledger;
 pub mod lock;
 pub mod plan;
 pub mod pool;
+pub mod run_dir;
 pub mod slurm;
 pub mod sweep;
 pub mod wire;

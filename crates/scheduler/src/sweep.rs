@@ -371,13 +371,16 @@ impl Sweep {
                     }
                     _ => {
                         let x = cx.num(v, &full)?;
+                        // Every key named: one added to the list above but not here is an
+                        // error, never a write to some other field.
                         *match key.as_str() {
                             "relax_time" => &mut protocol.relax_time,
                             "free_time" => &mut protocol.free_time,
                             "collide_time" => &mut protocol.collide_time,
                             "record_interval" => &mut protocol.record_interval,
                             "patch_bound" => &mut protocol.patch.bound,
-                            _ => &mut protocol.check_interval,
+                            "check_interval" => &mut protocol.check_interval,
+                            other => return Err(cx.err(full, format!("{other} has no field"))),
                         } = x;
                     }
                 }
@@ -411,7 +414,8 @@ impl Sweep {
                     "min_speed" => &mut classifier.min_speed,
                     "velocity_window" => &mut classifier.velocity_window,
                     "sustain_window" => &mut classifier.sustain_window,
-                    _ => &mut classifier.walk_past_margin,
+                    "walk_past_margin" => &mut classifier.walk_past_margin,
+                    other => return Err(cx.err(full, format!("{other} has no field"))),
                 } = x;
             }
         }

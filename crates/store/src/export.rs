@@ -97,8 +97,8 @@ impl Store {
                 }
             }
             let prep_id: i64 = r.get(6)?;
-            if !hashes.contains_key(&prep_id) {
-                hashes.insert(prep_id, self.prep_hash(prep_id)?);
+            if let std::collections::hash_map::Entry::Vacant(e) = hashes.entry(prep_id) {
+                e.insert(self.prep_hash(prep_id)?);
             }
             out.push(ExportRow {
                 sweep: name.clone(),

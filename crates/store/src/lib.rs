@@ -13,8 +13,10 @@ pub mod digest;
 pub mod error;
 pub mod export;
 pub mod fit;
+pub mod identity;
 pub mod lifecycle;
 pub mod phase;
+mod register;
 pub mod schema;
 pub mod slurm;
 pub mod status;
@@ -25,11 +27,12 @@ pub use binomial::clopper_pearson;
 pub use compare::{compare, Comparison, End, EndCounts, PointComparison, Replicate, Test};
 pub use error::{Result, StoreError};
 pub use fit::{fit_line, Column, Fit, NoFit, Scales};
+pub use identity::{JobIdentity, PrepIdentity};
 pub use lifecycle::JobState;
 pub use phase::{wilson, Counts, Fraction, Label};
 pub use slurm::SlurmArray;
 pub use status::{Failure, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{
-    bytes_to_f64s, f64s_to_bytes, now, JobIdentity, JobTask, NewJob, NewPoint, NewPrep, NewSweep,
-    PrepIdentity, PrepRecord, PrepTask, Registration, ResultRecord, Store,
+    bytes_to_f64s, f64s_to_bytes, now, JobTask, NewJob, NewPoint, NewPrep, NewSweep, PrepRecord,
+    PrepTask, Registration, ResultRecord, Store,
 };

@@ -1,0 +1,156 @@
+//! What the store says a job, a prep or a sweep is: the identities the scheduler's ledger
+//! checks every record against ([`JobIdentity`], [`PrepIdentity`]), the sweep's uid that
+//! stamps its Slurm run directories, and how many jobs each point has.
+
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use rusqlite::{params, OptionalExtension};
+
+use crate::error::Result;
+use crate::lifecycle::JobState;
+use crate::store::{seed_from_sql, Store};
+
+/// What the store says a job is: the ledger checks every record that claims it against this.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JobIdentity {
+    pub sweep_id: i64,
+    pub solver_version: String,
+    pub seed: u64,
+    pub prep_id: i64,
+    pub state: JobState,
+    /// JSON of the point's solver configuration.
+    pub config: String,
+    /// The prep's verdict, once it is done.
+    pub prep_verdict: Option<String>,
+}
+
+/// What the store says a prep is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrepIdentity {
+    pub seed: u64,
+    pub solver_version: String,
+    pub state: JobState,
+    /// JSON of the prep's configuration (parameters and protocol).
+    pub config: String,
+    /// Whether jobs of the given sweep start from it.
+    pub used_by_sweep: bool,
+}
+
+impl Store {
+    /// The identity of job `id`, if it exists.
+    pub fn job_identity(&self, id: i64) -> Result<Option<JobIdentity>> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT p.sweep_id, j.solver_version, j.seed, j.prep_id, j.state, p.params,
+                        CASE WHEN pr.state = 'done' THEN pr.verdict END
+                 FROM jobs j JOIN points p ON p.id = j.point_id JOIN preps pr ON pr.id = j.prep_id
+                 WHERE j.id = ?1",
+                [id],
+                |r| {
+                    let state: String = r.get(4)?;
+                    Ok(JobIdentity {
+                        sweep_id: r.get(0)?,
+                        solver_version: r.get(1)?,
+                        seed: seed_from_sql(r.get(2)?),
+                        prep_id: r.get(3)?,
+                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                        config: r.get(5)?,
+                        prep_verdict: r.get(6)?,
+                    })
+                },
+            )
+            .optional()?)
+    }
+
+    /// The identity of prep `id` as seen from sweep `sweep_id`, if it exists.
+    pub fn prep_identity(&self, id: i64, sweep_id: i64) -> Result<Option<PrepIdentity>> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT seed, solver_version, state, config, EXISTS (
+                     SELECT 1 FROM jobs j JOIN points p ON p.id = j.point_id
+                     WHERE j.prep_id = preps.id AND p.sweep_id = ?2)
+                 FROM preps WHERE id = ?1",
+                params![id, sweep_id],
+                |r| {
+                    let state: String = r.get(2)?;
+                    Ok(PrepIdentity {
+                        seed: seed_from_sql(r.get(0)?),
+                        solver_version: r.get(1)?,
+                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                        config: r.get(3)?,
+                        used_by_sweep: r.get(4)?,
+                    })
+                },
+            )
+            .optional()?)
+    }
+
+    /// The canonical JSON definition of a registered sweep.
+    pub fn sweep_spec(&self, sweep_id: i64) -> Result<String> {
+        Ok(self
+            .conn
+            .query_row("SELECT spec FROM sweeps WHERE id = ?1", [sweep_id], |r| {
+                r.get(0)
+            })?)
+    }
+
+    /// Jobs registered per point of a sweep under `version`, by point index.
+    pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<u32>> {
+        let mut q = self.conn.prepare(
+            "SELECT p.idx, COUNT(j.id) FROM points p
+             LEFT JOIN jobs j ON j.point_id = p.id AND j.solver_version = ?2
+             WHERE p.sweep_id = ?1 GROUP BY p.id ORDER BY p.idx",
+        )?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?))
+        })?;
+        let mut out = Vec::new();
+        for row in rows {
+            let (idx, n) = row?;
+            let idx = idx as usize;
+            if out.len() <= idx {
+                out.resize(idx + 1, 0);
+            }
+            out[idx] = n as u32;
+        }
+        Ok(out)
+    }
+}
+
+impl Store {
+    /// The sweep's uid, a random identity that names its Slurm run directories: created on
+    /// first use unless `create` is false (then `None` for a sweep that has none yet).
+    pub fn sweep_uid(&mut self, sweep_id: i64, create: bool) -> Result<Option<String>> {
+        let key = format!("sweep_uid:{sweep_id}");
+        let found: Option<String> = self
+            .conn
+            .query_row("SELECT value FROM meta WHERE key = ?1", [&key], |r| {
+                r.get(0)
+            })
+            .optional()?;
+        if found.is_some() || !create {
+            return Ok(found);
+        }
+        // Unique enough for a stamp: the time to the nanosecond, the process, the store's path.
+        let nanos = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let seed = format!(
+            "{nanos} {} {} {sweep_id}",
+            std::process::id(),
+            self.path().display()
+        );
+        let uid = format!(
+            "{:016x}{:016x}",
+            crate::digest::fnv1a(seed.as_bytes()),
+            crate::digest::fnv1a(format!("{seed} second half").as_bytes())
+        );
+        self.conn.execute(
+            "INSERT INTO meta (key, value) VALUES (?1, ?2)",
+            params![key, uid],
+        )?;
+        Ok(Some(uid))
+    }
+}

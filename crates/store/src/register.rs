@@ -1,0 +1,195 @@
+//! Registering a sweep: a new one, the same one again (resume), one that grows its replicates
+//! or changes its adaptive rule in place, or a different one under a taken name (refused, or
+//! archived with `--replace`).
+
+use rusqlite::{params, OptionalExtension, TransactionBehavior};
+
+use crate::error::{Result, StoreError};
+use crate::store::{now, seed_to_sql, NewSweep, Registration, Store};
+
+impl Store {
+    /// Register `sweep` (or find it registered), and make sure every one of its preps and jobs
+    /// exists for its solver version. A different sweep under an existing name is refused unless
+    /// `replace`, which renames the old sweep (its results stay) and registers the new one.
+    pub fn register(&mut self, sweep: &NewSweep, replace: bool) -> Result<Registration> {
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)?;
+        let existing: Option<(i64, String)> = tx
+            .query_row(
+                "SELECT id, spec FROM sweeps WHERE name = ?1",
+                [&sweep.name],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .optional()?;
+        let mut archived_as = None;
+        let mut grown_from = None;
+        let (sweep_id, created) = match existing {
+            None => (insert_sweep(&tx, sweep)?, true),
+            Some((id, spec)) => match spec_change(&spec, &sweep.spec) {
+                SpecChange::Same => (id, false),
+                SpecChange::Retuned => {
+                    tx.execute(
+                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                        params![sweep.spec, sweep.source, id],
+                    )?;
+                    (id, false)
+                }
+                SpecChange::Grows { from } => {
+                    // Replicate r's seed and prep do not depend on how many replicates there
+                    // are: the stored jobs are the first `from` of the grown sweep, and the
+                    // loop below adds the others.
+                    tx.execute(
+                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                        params![sweep.spec, sweep.source, id],
+                    )?;
+                    grown_from = Some(from);
+                    (id, false)
+                }
+                change if !replace => {
+                    let name = sweep.name.clone();
+                    return Err(match change {
+                        SpecChange::Shrinks { from, to } => StoreError::SweepShrinks {
+                            name,
+                            stored: from,
+                            asked: to,
+                        },
+                        _ => StoreError::SweepConflict {
+                            archived: format!("{name}@{id}"),
+                            name,
+                        },
+                    });
+                }
+                _ => {
+                    let archived = format!("{}@{}", sweep.name, id);
+                    tx.execute(
+                        "UPDATE sweeps SET name = ?1 WHERE id = ?2",
+                        params![archived, id],
+                    )?;
+                    archived_as = Some(archived);
+                    (insert_sweep(&tx, sweep)?, true)
+                }
+            },
+        };
+        if created {
+            for (idx, pt) in sweep.points.iter().enumerate() {
+                tx.execute(
+                    "INSERT INTO points (sweep_id, idx, alpha, beta, L, sigma, params)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+                    params![
+                        sweep_id, idx as i64, pt.alpha, pt.beta, pt.spacing, pt.sigma, pt.config
+                    ],
+                )?;
+            }
+        }
+        let mut prep_ids = Vec::with_capacity(sweep.preps.len());
+        for prep in &sweep.preps {
+            tx.execute(
+                "INSERT OR IGNORE INTO preps (key, seed, solver_version, config, state)
+                 VALUES (?1, ?2, ?3, ?4, 'pending')",
+                params![
+                    prep.key,
+                    seed_to_sql(prep.seed),
+                    sweep.solver_version,
+                    prep.config
+                ],
+            )?;
+            prep_ids.push(tx.query_row(
+                "SELECT id FROM preps WHERE key = ?1 AND seed = ?2 AND solver_version = ?3",
+                params![prep.key, seed_to_sql(prep.seed), sweep.solver_version],
+                |r| r.get::<_, i64>(0),
+            )?);
+        }
+        {
+            let mut point_id =
+                tx.prepare("SELECT id FROM points WHERE sweep_id = ?1 AND idx = ?2")?;
+            let mut insert = tx.prepare(
+                "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
+                 VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
+            )?;
+            for (idx, pt) in sweep.points.iter().enumerate() {
+                let pid: i64 = point_id.query_row(params![sweep_id, idx as i64], |r| r.get(0))?;
+                for job in &pt.jobs {
+                    insert.execute(params![
+                        pid,
+                        job.replicate,
+                        sweep.solver_version,
+                        prep_ids[job.prep],
+                        seed_to_sql(job.seed)
+                    ])?;
+                }
+            }
+        }
+        let other_versions = {
+            let mut q = tx.prepare(
+                "SELECT j.solver_version, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND j.solver_version != ?2 AND j.state = 'done'
+                 GROUP BY j.solver_version ORDER BY j.solver_version",
+            )?;
+            let rows = q.query_map(params![sweep_id, sweep.solver_version], |r| {
+                Ok((r.get(0)?, r.get(1)?))
+            })?;
+            rows.collect::<rusqlite::Result<Vec<_>>>()?
+        };
+        tx.commit()?;
+        Ok(Registration {
+            sweep_id,
+            created,
+            grown_from,
+            archived_as,
+            other_versions,
+        })
+    }
+}
+
+/// How a new definition of a registered sweep differs from the stored one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SpecChange {
+    Same,
+    /// Only the adaptive rule differs.
+    Retuned,
+    /// Only `replicates` (and perhaps the adaptive rule) differs, and it is larger.
+    Grows {
+        from: u32,
+    },
+    /// Only `replicates` differs, and it is smaller.
+    Shrinks {
+        from: u32,
+        to: u32,
+    },
+    /// Anything else: a different sweep.
+    Other,
+}
+
+/// Compare two canonical sweep definitions. `replicates` and `adaptive` are the keys that may
+/// change under the same name: growing the budget only adds jobs, since a replicate's seed and
+/// prep depend on its index, never on the count (SPEC section 6), and the adaptive rule only
+/// decides how many of them run.
+fn spec_change(stored: &str, new: &str) -> SpecChange {
+    if stored == new {
+        return SpecChange::Same;
+    }
+    let split = |text: &str| -> Option<(u32, serde_json::Value)> {
+        let mut v: serde_json::Value = serde_json::from_str(text).ok()?;
+        let map = v.as_object_mut()?;
+        let n = map.remove("replicates")?.as_u64()?;
+        map.remove("adaptive");
+        Some((u32::try_from(n).ok()?, v))
+    };
+    match (split(stored), split(new)) {
+        (Some((from, a)), Some((to, b))) if a == b => match to.cmp(&from) {
+            std::cmp::Ordering::Greater => SpecChange::Grows { from },
+            std::cmp::Ordering::Less => SpecChange::Shrinks { from, to },
+            std::cmp::Ordering::Equal => SpecChange::Retuned,
+        },
+        _ => SpecChange::Other,
+    }
+}
+
+fn insert_sweep(tx: &rusqlite::Transaction<'_>, sweep: &NewSweep) -> Result<i64> {
+    tx.execute(
+        "INSERT INTO sweeps (name, spec, source, created_at) VALUES (?1, ?2, ?3, ?4)",
+        params![sweep.name, sweep.spec, sweep.source, now()],
+    )?;
+    Ok(tx.last_insert_rowid())
+}

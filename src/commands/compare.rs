@@ -19,7 +19,7 @@ struct Side {
 }
 
 fn load(db: &Path, name: &str, version: Option<&str>) -> anyhow::Result<Side> {
-    let store = Store::open(db)?;
+    let store = Store::open_read(db)?;
     let id = store.sweep_id(name)?;
     let version = version.unwrap_or(SOLVER_VERSION);
     let replicates = store.replicates(id, version)?;

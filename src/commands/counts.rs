@@ -31,7 +31,7 @@ pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
 }
 
 pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
-    let store = Store::open(db)?;
+    let store = Store::open_read(db)?;
     let names = store.sweep_names()?;
     let name = match sweep {
         Some(n) => n.to_string(),

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use crate::cli::{ExportArgs, ImportArgs};
 
 pub fn run(args: ExportArgs) -> anyhow::Result<()> {
-    let store = Store::open(&args.db.db)?;
+    let store = Store::open_read(&args.db.db)?;
     let name = match &args.sweep {
         Some(n) => n.clone(),
         None => match store.sweep_names()?.as_slice() {

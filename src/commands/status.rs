@@ -46,7 +46,7 @@ fn standings(
 }
 
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {
-    let store = Store::open(&args.db.db)?;
+    let store = Store::open_read(&args.db.db)?;
     let all = store.status()?;
     if args.json {
         let mut rows = Vec::new();

@@ -191,22 +191,42 @@ impl Store {
         Ok(store)
     }
 
+    /// Open an existing store for reading only (`status`, `table`, `plot`, ...): it works on
+    /// read-only media too, where SQLite cannot create the WAL index beside the file (then the
+    /// file is opened as immutable: nothing can be writing it there).
+    pub fn open_read(path: &Path) -> Result<Store> {
+        Self::open_with(path, OpenFlags::SQLITE_OPEN_READ_ONLY).or_else(|first| {
+            let uri = format!("file:{}?immutable=1", path.display());
+            Self::open_with(
+                Path::new(&uri),
+                OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_URI,
+            )
+            .map(|mut s| {
+                s.path = path.to_path_buf();
+                s
+            })
+            .map_err(|_| first)
+        })
+    }
+
     /// Open an existing store; a missing, corrupt or foreign file is a clear error.
     pub fn open(path: &Path) -> Result<Store> {
-        if !path.exists() {
+        Self::open_with(path, OpenFlags::SQLITE_OPEN_READ_WRITE)
+    }
+
+    fn open_with(path: &Path, mode: OpenFlags) -> Result<Store> {
+        let is_uri = mode.contains(OpenFlags::SQLITE_OPEN_URI);
+        if !is_uri && !path.exists() {
             return Err(StoreError::Missing(path.to_path_buf()));
         }
         if path.is_dir() {
             return Err(StoreError::IsDirectory(path.to_path_buf()));
         }
-        let conn = Connection::open_with_flags(
-            path,
-            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
-        )
-        .map_err(|e| StoreError::Corrupt {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
+        let conn = Connection::open_with_flags(path, mode | OpenFlags::SQLITE_OPEN_NO_MUTEX)
+            .map_err(|e| StoreError::Corrupt {
+                path: path.to_path_buf(),
+                reason: e.to_string(),
+            })?;
         let store = Store {
             conn,
             path: path.to_path_buf(),

@@ -203,6 +203,16 @@ fn a_prep_that_blows_up_is_stored_as_breakup_with_its_nan_summaries() {
         .query_row("SELECT summary FROM preps", [], |r| r.get(0))
         .unwrap();
     assert!(summary.contains("\"area\":\"NaN\""), "{summary}");
+    // With its reason, in the prep and in every result it decided.
+    assert!(summary.contains("not finite"), "{summary}");
+    let record: String = rusqlite::Connection::open(&db)
+        .unwrap()
+        .query_row("SELECT record FROM results LIMIT 1", [], |r| r.get(0))
+        .unwrap();
+    assert!(
+        record.contains("\"reason\":\"the fields are not finite"),
+        "{record}"
+    );
     // The stored verdict record carries the sweep's classifier settings, as a collision does.
     let classifier: String = rusqlite::Connection::open(&db)
         .unwrap()

@@ -54,6 +54,7 @@ pub struct Ledger {
 /// The record of a job decided by its prep's verdict (no collision run).
 fn verdict_record(
     verdict: Verdict,
+    reason: Option<&str>,
     free_speed: Option<f64>,
     prep_id: i64,
     classifier: &str,
@@ -69,8 +70,13 @@ fn verdict_record(
         collision_steps: 0,
         wall_s: 0.0,
         classifier: classifier.to_string(),
-        record: json!({ "verdict": verdict, "prep_id": prep_id, "free_speed": free_speed })
-            .to_string(),
+        record: json!({
+            "verdict": verdict,
+            "reason": reason,
+            "prep_id": prep_id,
+            "free_speed": free_speed,
+        })
+        .to_string(),
     }
 }
 
@@ -211,8 +217,13 @@ impl Ledger {
             store.collect_prep(prep_id, &rec)?;
             Settlement::New
         };
-        let jobs_settled =
-            self.settle_verdict(store, prep_id, payload.verdict, payload.free_speed)?;
+        let jobs_settled = self.settle_verdict(
+            store,
+            prep_id,
+            payload.verdict,
+            payload.verdict_reason.as_deref(),
+            payload.free_speed,
+        )?;
         Ok(PrepSettled {
             settlement,
             verdict: Some(payload.verdict),
@@ -226,12 +237,13 @@ impl Ledger {
         store: &mut Store,
         prep_id: i64,
         verdict: Verdict,
+        reason: Option<&str>,
         free_speed: Option<f64>,
     ) -> Result<usize, RunError> {
         if verdict == Verdict::Ok {
             return Ok(0);
         }
-        let rec = verdict_record(verdict, free_speed, prep_id, &self.classifier);
+        let rec = verdict_record(verdict, reason, free_speed, prep_id, &self.classifier);
         Ok(store.settle_jobs_of_prep(self.sweep_id, prep_id, &self.version, &rec)?)
     }
 
@@ -245,8 +257,11 @@ impl Ledger {
                 (JobState::Done, Some("breakup")) => Verdict::Breakup,
                 _ => continue,
             };
-            let speed = store.load_prep(p.id)?.free_speed;
-            n += self.settle_verdict(store, p.id, verdict, speed)?;
+            let stored = store.load_prep(p.id)?;
+            let reason = serde_json::from_str::<serde_json::Value>(&stored.summary)
+                .ok()
+                .and_then(|v| v["verdict_reason"].as_str().map(String::from));
+            n += self.settle_verdict(store, p.id, verdict, reason.as_deref(), stored.free_speed)?;
         }
         Ok(n)
     }

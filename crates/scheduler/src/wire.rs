@@ -14,6 +14,9 @@ pub struct PrepPayload {
     pub verdict: Verdict,
     #[serde(with = "cellsweep_solver::nonfinite::option")]
     pub verdict_time: Option<f64>,
+    /// Why the verdict is not `ok`, in words.
+    #[serde(default)]
+    pub verdict_reason: Option<String>,
     #[serde(with = "cellsweep_solver::nonfinite::option")]
     pub free_speed: Option<f64>,
     pub relaxed: FieldSummary,
@@ -29,6 +32,7 @@ impl PrepPayload {
             seed: prep.seed,
             verdict: prep.verdict,
             verdict_time: prep.verdict_time,
+            verdict_reason: prep.verdict_reason.clone(),
             free_speed: prep.free_speed,
             relaxed: prep.relaxed.clone(),
             prepped: prep.prepped.clone(),
@@ -49,8 +53,12 @@ impl PrepPayload {
             ny: self.lattice[1],
             phi: prep.phi,
             p: prep.p,
-            summary: serde_json::json!({ "relaxed": self.relaxed, "prepped": self.prepped })
-                .to_string(),
+            summary: serde_json::json!({
+                "relaxed": self.relaxed,
+                "prepped": self.prepped,
+                "verdict_reason": self.verdict_reason,
+            })
+            .to_string(),
             wall_s,
         })
     }
@@ -68,6 +76,7 @@ impl PrepPayload {
             verdict: serde_json::from_value(serde_json::json!(rec.verdict))
                 .map_err(|e| e.to_string())?,
             verdict_time: rec.verdict_time,
+            verdict_reason: summary["verdict_reason"].as_str().map(String::from),
             free_speed: rec.free_speed,
             relaxed: field("relaxed")?,
             prepped: field("prepped")?,
@@ -97,6 +106,7 @@ impl PrepPayload {
             seed: self.seed,
             verdict: self.verdict,
             verdict_time: self.verdict_time,
+            verdict_reason: self.verdict_reason.clone(),
             free_speed: self.free_speed,
             relaxed: self.relaxed.clone(),
             prepped: self.prepped.clone(),

@@ -42,6 +42,8 @@ pub struct Prep {
     pub verdict: Verdict,
     /// When a non-`ok` verdict was reached (tau0 into free motion).
     pub verdict_time: Option<f64>,
+    /// Why, in words (`None` for `ok`).
+    pub verdict_reason: Option<String>,
     /// Net displacement of the unwrapped centroid over the second half of free motion, per tau0.
     pub free_speed: Option<f64>,
     /// The relaxed cell (end of stage 1).
@@ -104,28 +106,46 @@ pub fn kick(lat: &Lattice, cell: &mut Cell) {
     }
 }
 
-/// The verdict checks of SPEC section 4 on the current state; `None` while the cell is fine.
+/// The verdict checks of SPEC section 4 on the current state, with the reason in words;
+/// `None` while the cell is fine.
 pub fn check_verdict(
     lat: &Lattice,
     fibers: &Fibers,
     params: &Params,
     cell: &Cell,
-) -> Option<Verdict> {
-    let broken = !all_finite(&[&cell.phi, &cell.p])
-        || max_of(&cell.phi) < 0.5
-        || cell.sums.area < 0.5 * PI * params.R0 * params.R0
-        || components(lat, &cell.phi)
+) -> Option<(Verdict, String)> {
+    let half_area = 0.5 * PI * params.R0 * params.R0;
+    let max_phi = max_of(&cell.phi);
+    let broken = if !all_finite(&[&cell.phi, &cell.p]) {
+        Some("the fields are not finite (NaN or infinite values)".to_string())
+    } else if max_phi < 0.5 {
+        Some(format!("max phi = {max_phi:.4} < 0.5"))
+    } else if cell.sums.area < half_area {
+        Some(format!(
+            "S = {:.1} < 0.5 pi R0^2 = {half_area:.1}",
+            cell.sums.area
+        ))
+    } else {
+        let pieces = components(lat, &cell.phi)
             .iter()
             .filter(|&&n| n >= 10)
-            .count()
-            > 1;
-    if broken {
-        return Some(Verdict::Breakup);
+            .count();
+        (pieces > 1)
+            .then(|| format!("the region phi > 0.5 is in {pieces} pieces of 10 or more sites"))
+    };
+    if let Some(why) = broken {
+        return Some((Verdict::Breakup, why));
     }
     if params.geometry == Geometry::Two && fibers.count() == 2 {
         let [b, t] = cell.sums.adhesive;
         if b < LET_GO_FRACTION * t || t < LET_GO_FRACTION * b || b.max(t) <= 0.0 {
-            return Some(Verdict::Unstable);
+            return Some((
+                Verdict::Unstable,
+                format!(
+                    "let go of a fiber: adhesive area {b:.1} on the bottom fiber, {t:.1} on the top \
+                     (below {LET_GO_FRACTION} of the other's)"
+                ),
+            ));
         }
     }
     None
@@ -164,6 +184,7 @@ pub fn prepare_with(
     let mut track = vec![(0.0, x_prev)];
     let mut verdict = Verdict::Ok;
     let mut verdict_time = None;
+    let mut verdict_reason = None;
     let mut done = 0;
     for s in 0..steps.free {
         let nz = noise.at(s)[0];
@@ -180,17 +201,19 @@ pub fn prepare_with(
         }
         let diverged = !cell.sums.area.is_finite();
         if diverged || n % steps.check_every == 0 || n == steps.free {
-            if let Some(v) = check_verdict(&lat, &fibers, params, &cell) {
+            if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell) {
                 verdict = v;
                 verdict_time = Some(t);
+                verdict_reason = Some(why);
                 break;
             }
         }
     }
     if steps.free == 0 {
-        if let Some(v) = check_verdict(&lat, &fibers, params, &cell) {
+        if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell) {
             verdict = v;
             verdict_time = Some(0.0);
+            verdict_reason = Some(why);
         }
     }
     let free_speed = speed_over_second_half(&track, steps.free as f64 * params.dt);
@@ -198,6 +221,7 @@ pub fn prepare_with(
         seed,
         verdict,
         verdict_time,
+        verdict_reason,
         free_speed: free_speed.filter(|v| v.is_finite()),
         relaxed,
         prepped: FieldSummary::of(&lat, &fibers, &cell.phi, done),

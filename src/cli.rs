@@ -92,6 +92,10 @@ pub struct RunArgs {
     /// Put the sweep's failed jobs and preps back to pending (attempts reset) and run them.
     #[arg(long)]
     pub retry_failed: bool,
+    /// Print the sweep's points, preps and jobs, what the store already holds, and what the
+    /// rest would cost, writing nothing.
+    #[arg(long, conflicts_with_all = ["retry_failed", "replace", "plot"])]
+    pub dry_run: bool,
 }
 
 #[derive(Debug, Args)]

@@ -252,3 +252,45 @@ fn a_fixed_sweep_becomes_adaptive_under_its_name_and_keeps_its_results() {
     );
     assert_eq!(result_rows(&db, "pilot"), grown);
 }
+
+#[test]
+fn later_rounds_reach_preps_a_worker_has_dropped_from_its_cache() {
+    // Six preps (six alphas) on one worker, which keeps four: every second round returns to
+    // preps it dropped long ago. Each must be sent again, and no job may fail for want of it.
+    let dir = workdir("cache");
+    let db = dir.join("r.sqlite");
+    let sweep = write_sweep(&dir, "cache", 16, ADAPTIVE);
+    std::fs::write(
+        &sweep,
+        std::fs::read_to_string(&sweep)
+            .unwrap()
+            .replace(
+                "alpha = [0.1, 0.12]",
+                "alpha = [0.1, 0.11, 0.12, 0.13, 0.14, 0.15]",
+            )
+            .replace("sigma = [5, 0]", "sigma = [5]"),
+    )
+    .unwrap();
+    let out = cellsweep(&[
+        "run",
+        sweep.to_str().unwrap(),
+        "--db",
+        db.to_str().unwrap(),
+        "--workers",
+        "1",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        count(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'failed'"),
+        0
+    );
+    assert_eq!(
+        count(&db, "SELECT COUNT(*) FROM jobs WHERE attempts > 0"),
+        0
+    );
+    assert_eq!(count(&db, "SELECT COUNT(*) FROM results"), 6 * 12);
+}

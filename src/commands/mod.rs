@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod counts;
+mod dry_run;
 mod export;
 mod fit;
 mod model;

@@ -12,6 +12,14 @@ use crate::progress::SweepBar;
 
 pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     let sweep = Sweep::load(&args.sweep)?;
+    let workers = args.workers.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        usize::from,
+    );
+    if args.dry_run {
+        super::dry_run::run(&sweep, &args.sweep, &args.db.db, workers)?;
+        return Ok(0);
+    }
     let new = plan(&sweep, &args.sweep.display().to_string());
     let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
     // One writer per store: a second run (or submit, collect, import) is refused here.
@@ -78,10 +86,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
         println!("retrying {n} failed jobs and preps (attempts reset)");
     }
-    let workers = args.workers.map_or_else(
-        || std::thread::available_parallelism().map_or(1, |n| n.get()),
-        usize::from,
-    );
     let opts = RunOptions {
         workers,
         job_timeout: Duration::from_secs_f64(

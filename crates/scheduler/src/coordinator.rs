@@ -20,6 +20,7 @@ use crate::error::RunError;
 use crate::ledger::{Ledger, Settlement};
 use crate::pool::{worker_task, Event, WorkerCommand};
 use crate::wire::{PrepPayload, Request, Response};
+use crate::worker::remember;
 
 /// How to run.
 #[derive(Debug, Clone)]
@@ -74,7 +75,8 @@ enum Busy {
 
 struct Worker {
     requests: mpsc::Sender<Request>,
-    preps: HashSet<i64>,
+    /// The preps its process holds: a copy of its cache, kept by the worker's own rule.
+    preps: VecDeque<(i64, ())>,
     busy: Option<Busy>,
 }
 
@@ -178,17 +180,19 @@ impl Run<'_> {
                 config,
                 seed: prep.seed,
             };
+            // The worker keeps the prep it computes (the mirror is mended if it fails).
+            remember(&mut worker.preps, prep.id, ());
             worker.busy = Some(Busy::Prep(prep));
             return Ok(Some(req));
         }
         if let Some(job) = self.ready.pop_front() {
             self.store.claim_job(job.id)?;
             let config: Config = serde_json::from_str(&job.config)?;
-            let prep = if worker.preps.contains(&job.prep_id) {
+            let prep = if worker.preps.iter().any(|(id, _)| *id == job.prep_id) {
                 None
             } else {
                 let payload = self.payload(job.prep_id)?;
-                worker.preps.insert(job.prep_id);
+                remember(&mut worker.preps, job.prep_id, ());
                 Some(Box::new(payload))
             };
             let req = Request::Collide {
@@ -390,7 +394,7 @@ pub async fn run_sweep(
                 i,
                 Worker {
                     requests: tx,
-                    preps: HashSet::new(),
+                    preps: VecDeque::new(),
                     busy: None,
                 },
             );
@@ -445,8 +449,20 @@ pub async fn run_sweep(
         tokio::select! {
             ev = events.recv() => match ev {
                 Some(Event::Reply { worker, response }) => {
-                    if let Some(busy) = workers.get_mut(&worker).and_then(|w| w.busy.take()) {
-                        if let Err(e) = run.on_reply(busy, response) { fatal = Some(e); break; }
+                    if let Some(w) = workers.get_mut(&worker) {
+                        // A prep the worker failed to compute or to take is not in its cache:
+                        // the next job of it sends it again.
+                        let unsure = match (&w.busy, &response) {
+                            (Some(Busy::Prep(p)), r) if !matches!(r, Response::Prep { .. }) => Some(p.id),
+                            (Some(Busy::Job(j)), Response::Failed { .. }) => Some(j.prep_id),
+                            _ => None,
+                        };
+                        if let Some(id) = unsure {
+                            w.preps.retain(|(k, _)| *k != id);
+                        }
+                        if let Some(busy) = w.busy.take() {
+                            if let Err(e) = run.on_reply(busy, response) { fatal = Some(e); break; }
+                        }
                     }
                 }
                 Some(Event::Lost { worker, error }) => {

@@ -15,7 +15,7 @@ use cellsweep_solver::{collide, prepare, Prep, Silent, TrajectoryResult};
 use crate::wire::{PrepPayload, Request, Response};
 
 /// Preps kept per worker.
-const CACHE: usize = 4;
+pub const CACHE: usize = 4;
 
 fn env_i64(name: &str) -> Option<i64> {
     std::env::var(name).ok()?.trim().parse().ok()
@@ -81,12 +81,15 @@ pub fn answer(req: Request, cache: &mut PrepCache) -> Response {
     )
 }
 
-fn remember(cache: &mut VecDeque<(i64, Prep)>, id: i64, prep: Prep) {
+/// Keep `value` as prep `id` in a worker's cache of at most [`CACHE`] preps, the oldest
+/// inserted going first. The coordinator keeps its copy of each worker's cache (ids only) by
+/// this same function, so it knows exactly which preps a worker still holds.
+pub fn remember<T>(cache: &mut VecDeque<(i64, T)>, id: i64, value: T) {
     cache.retain(|(k, _)| *k != id);
     if cache.len() == CACHE {
         cache.pop_front();
     }
-    cache.push_back((id, prep));
+    cache.push_back((id, value));
 }
 
 fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {

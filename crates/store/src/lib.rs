@@ -31,7 +31,7 @@ pub use identity::{JobIdentity, PrepIdentity};
 pub use lifecycle::JobState;
 pub use phase::{wilson, Counts, Fraction, Label};
 pub use slurm::SlurmArray;
-pub use status::{Failure, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
+pub use status::{Failure, MeasuredCost, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{
     bytes_to_f64s, f64s_to_bytes, now, JobTask, NewJob, NewPoint, NewPrep, NewSweep, PrepRecord,
     PrepTask, Registration, ResultRecord, Store,

@@ -311,3 +311,36 @@ impl Store {
         Ok(preps + jobs)
     }
 }
+
+/// What this store measured of the solver: mean seconds per prep and per collision (of
+/// `version`, on whatever lattices its sweeps used), with how many each mean is over.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MeasuredCost {
+    pub prep_s: Option<f64>,
+    pub preps: i64,
+    pub collision_s: Option<f64>,
+    pub collisions: i64,
+}
+
+impl Store {
+    pub fn measured_cost(&self, version: &str) -> Result<MeasuredCost> {
+        let (prep_s, preps) = self.conn.query_row(
+            "SELECT AVG(wall_s), COUNT(*) FROM preps
+             WHERE state = 'done' AND solver_version = ?1 AND wall_s > 0",
+            [version],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )?;
+        let (collision_s, collisions) = self.conn.query_row(
+            "SELECT AVG(wall_s), COUNT(*) FROM results
+             WHERE solver_version = ?1 AND collision_steps > 0 AND wall_s > 0",
+            [version],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )?;
+        Ok(MeasuredCost {
+            prep_s,
+            preps,
+            collision_s,
+            collisions,
+        })
+    }
+}

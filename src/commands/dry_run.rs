@@ -1,0 +1,135 @@
+//! `cellsweep run --dry-run`: what a sweep is and what it would cost, writing nothing.
+
+use std::path::Path;
+use std::time::Instant;
+
+use cellsweep_scheduler::{plan, Sweep};
+use cellsweep_solver::prep::{initial_circle, kick};
+use cellsweep_solver::{Cell, Fibers, Lattice, SOLVER_VERSION};
+use cellsweep_store::Store;
+
+/// Seconds per single-cell step on the sweep's lattice, from a short measurement here.
+fn single_step_s(sweep: &Sweep) -> f64 {
+    let params = &sweep.points()[0];
+    let [nx, ny] = sweep.protocol.single_lattice;
+    let lat = Lattice::new(nx, ny);
+    let fibers = Fibers::new(params, ny);
+    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
+    kick(&lat, &mut cell);
+    let mut best = f64::INFINITY;
+    for _ in 0..4 {
+        let t = Instant::now();
+        for _ in 0..20 {
+            cell.step(&lat, &fibers, params, [0.05, -0.03], true, false);
+        }
+        best = best.min(t.elapsed().as_secs_f64() / 20.0);
+    }
+    best
+}
+
+fn hours(s: f64) -> String {
+    if s < 3600.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}
+
+pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::Result<()> {
+    let new = plan(sweep, &source.display().to_string());
+    let points = new.points.len();
+    let first: usize = new.points.iter().map(|p| p.jobs.len()).sum();
+    let budget = points * sweep.replicates as usize;
+    println!("dry run of {:?} (nothing is written):", sweep.name);
+    match &sweep.adaptive {
+        Some(a) => println!(
+            "  {points} points, {} preps; adaptive: {} replicates per point first, {} more per \
+             round until settled (error {}), at most {}: {first} jobs in the first round, at most \
+             {budget}",
+            new.preps.len(),
+            a.min_replicates,
+            a.batch,
+            a.error,
+            a.max_replicates
+        ),
+        None => println!(
+            "  {points} points x {} replicates = {budget} jobs, {} preps",
+            sweep.replicates,
+            new.preps.len()
+        ),
+    }
+    let store = if db.exists() {
+        Some(Store::open_read(db)?)
+    } else {
+        None
+    };
+    let (mut jobs_left, mut preps_left) = (first as i64, new.preps.len() as i64);
+    match &store {
+        None => println!("  {} does not exist: it would be created", db.display()),
+        Some(store) => match store
+            .status()?
+            .into_iter()
+            .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION)
+        {
+            None => println!("  not registered in {} yet", db.display()),
+            Some(s) => {
+                println!(
+                    "  in {}: {} jobs done, {} pending, {} running, {} failed; {} of {} preps done",
+                    db.display(),
+                    s.jobs.done,
+                    s.jobs.pending,
+                    s.jobs.running,
+                    s.jobs.failed,
+                    s.preps_done,
+                    s.preps_total
+                );
+                jobs_left = s.jobs.pending + s.jobs.running;
+                preps_left = s.preps_total - s.preps_done;
+            }
+        },
+    }
+    let measured = match &store {
+        Some(s) => Some(s.measured_cost(SOLVER_VERSION)?),
+        None => None,
+    };
+    let steps = |t: f64| (t / sweep.params.dt).round();
+    let p = &sweep.protocol;
+    let (prep_s, collision_s, how) = match measured {
+        Some(m) if m.prep_s.is_some() && m.collision_s.is_some() => (
+            m.prep_s.unwrap_or(0.0),
+            m.collision_s.unwrap_or(0.0),
+            format!(
+                "as measured in this store over {} preps and {} collisions",
+                m.preps, m.collisions
+            ),
+        ),
+        _ => {
+            let step = single_step_s(sweep);
+            let sites = |l: [usize; 2]| (l[0] * l[1]) as f64;
+            let ratio = 2.0 * sites(p.pair_lattice) / sites(p.single_lattice);
+            (
+                step * (steps(p.relax_time) + steps(p.free_time)),
+                step * ratio * steps(p.collide_time),
+                format!(
+                    "from a single-cell step of {:.2} ms measured here; a collision at most \
+                     (per-cell windows and early stopping make most far cheaper)",
+                    step * 1e3
+                ),
+            )
+        }
+    };
+    let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
+    println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
+    println!(
+        "  to run now: {preps_left} preps and {jobs_left} collisions{}: {:.2} core-hours, about {} \
+         on {workers} workers",
+        if sweep.adaptive.is_some() {
+            " (the first round; later rounds follow)"
+        } else {
+            ""
+        },
+        total / 3600.0,
+        hours(total / workers.max(1) as f64)
+    );
+    Ok(())
+}

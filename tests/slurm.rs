@@ -464,17 +464,73 @@ fn array_tasks_respect_max_array_size_stop_cleanly_on_usr1_and_resume() {
     );
     assert!(first.ends_with('\n'));
 
-    // Rerunning the task (as a requeue would) skips the finished records.
+    // A task killed mid-write leaves a torn last line. Rerunning the task (as a requeue would)
+    // skips the finished records and starts the next on a fresh line, so the torn fragment
+    // stays alone (reported by collect) instead of swallowing the new record.
+    let mut torn = first.clone().into_bytes();
+    torn.extend_from_slice(b"{\"type\":\"collide\",\"task\":");
+    std::fs::write(&results, torn).unwrap();
     assert!(task("collide", 0).wait().unwrap().success());
     assert_eq!(
         std::fs::read_to_string(&results).unwrap().lines().count(),
-        3
+        4
     );
     let c = run(&["collect", "--db", "r.sqlite"]);
     assert!(
         String::from_utf8_lossy(&c.stdout).contains("2 preps and 3 results new"),
         "{}",
         String::from_utf8_lossy(&c.stdout)
+    );
+    assert!(
+        String::from_utf8_lossy(&c.stderr).contains("collide-0.jsonl: line 3: malformed record"),
+        "{}",
+        String::from_utf8_lossy(&c.stderr)
+    );
+}
+
+#[test]
+fn a_prep_that_blows_up_on_slurm_is_collected_as_breakup_and_not_resent() {
+    slurm_up();
+    let dir = workdir("nan");
+    std::fs::write(
+        dir.join("s.toml"),
+        "name = \"slurm-nan\"\nseed = 1\nreplicates = 2\n[grid]\nalpha = [0.18]\nbeta = [10]\nL = [40]\nsigma = [5]\n\
+         [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
+         [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n",
+    )
+    .unwrap();
+    let out = cellsweep(
+        &dir,
+        &["submit", "s.toml", "--backend", "slurm", "--db", "r.sqlite"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    wait_for(&slurm_ids(&out.stdout));
+    let db = dir.join("r.sqlite");
+    let again = cellsweep(
+        &dir,
+        &["submit", "s.toml", "--backend", "slurm", "--db", "r.sqlite"],
+    );
+    let text = String::from_utf8_lossy(&again.stdout);
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert!(text.contains("nothing to submit"), "{text}");
+    assert_eq!(
+        db_count(&db, "SELECT COUNT(*) FROM preps WHERE verdict = 'breakup'"),
+        1
+    );
+    assert_eq!(
+        db_count(
+            &db,
+            "SELECT COUNT(*) FROM results WHERE verdict = 'breakup'"
+        ),
+        2
     );
 }
 

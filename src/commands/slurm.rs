@@ -17,8 +17,7 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
     dirs.sort();
     dirs.dedup();
     for d in dirs {
-        let c = slurm::collect(store, sweep_id, SOLVER_VERSION, std::path::Path::new(&d))
-            .map_err(anyhow::Error::msg)?;
+        let c = slurm::collect(store, sweep_id, SOLVER_VERSION, std::path::Path::new(&d))?;
         for p in &c.problems {
             eprintln!("warning: {p}");
         }
@@ -55,7 +54,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
         dry_run: args.dry_run,
     };
-    opts.validate().map_err(anyhow::Error::msg)?;
+    opts.validate()?;
     if args.dry_run && !args.db.db.exists() {
         // Nothing to read: show the scripts of a fresh sweep without creating a store.
         let jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
@@ -88,8 +87,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
             return Ok(());
         };
         let mut store = store;
-        let sub = slurm::submit(&mut store, id, &sweep.name, SOLVER_VERSION, &opts)
-            .map_err(anyhow::Error::msg)?;
+        let sub = slurm::submit(&mut store, id, &sweep.name, SOLVER_VERSION, &opts)?;
         for (_, text) in &sub.scripts {
             println!("{text}");
         }
@@ -123,8 +121,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
             std::thread::sleep(std::time::Duration::from_secs_f64(args.poll));
             continue;
         }
-        let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)
-            .map_err(anyhow::Error::msg)?;
+        let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)?;
         if sub.scripts.is_empty() {
             println!(
                 "nothing to submit: every job of {:?} has a result{}",

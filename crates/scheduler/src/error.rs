@@ -35,3 +35,35 @@ pub enum RunError {
     #[error("stored configuration is malformed: {0}")]
     Config(#[from] serde_json::Error),
 }
+
+/// Failures of the Slurm engine: writing a run directory, calling sbatch, reading results.
+#[derive(Debug, Error)]
+pub enum SlurmError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Store(#[from] cellsweep_store::StoreError),
+    #[error(transparent)]
+    Run(#[from] RunError),
+    #[error("malformed JSON: {0}")]
+    Json(#[from] serde_json::Error),
+    /// A value, directory or answer that cannot be used, with the reason.
+    #[error("{0}")]
+    Refused(String),
+}
+
+impl From<String> for SlurmError {
+    fn from(why: String) -> Self {
+        SlurmError::Refused(why)
+    }
+}
+
+impl From<&str> for SlurmError {
+    fn from(why: &str) -> Self {
+        SlurmError::Refused(why.to_string())
+    }
+}

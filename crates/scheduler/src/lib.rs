@@ -21,7 +21,7 @@ pub mod wire;
 pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
-pub use error::{RunError, SweepError};
+pub use error::{RunError, SlurmError, SweepError};
 pub use ledger::{Ledger, Settlement};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_targets};

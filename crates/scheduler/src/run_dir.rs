@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use crate::error::SlurmError;
 use crate::slurm::{io, write_atomic};
 
 /// The file in a run directory that names the sweep whose files it holds.
@@ -12,7 +13,7 @@ const STAMP: &str = "sweep.uid";
 /// Check that `run_dir` belongs to the sweep with `uid`: its stamp names it, or the directory
 /// is new or empty (then it is stamped, unless `dry_run`). A directory of another sweep (a
 /// stale one from an earlier store, say) is refused before anything is read or written.
-pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), String> {
+pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), SlurmError> {
     let stamp = run_dir.join(STAMP);
     match std::fs::read_to_string(&stamp) {
         Ok(found) if found.trim() == uid => Ok(()),
@@ -21,7 +22,8 @@ pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), Str
              --run-dir or remove that directory",
             run_dir.display(),
             found.trim()
-        )),
+        )
+        .into()),
         Err(_) => {
             let empty = std::fs::read_dir(run_dir).map_or(true, |mut d| d.next().is_none());
             if !empty {
@@ -29,7 +31,8 @@ pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), Str
                     "{} is not empty and has no {STAMP}: it is not this sweep's run directory; \
                      choose another --run-dir",
                     run_dir.display()
-                ));
+                )
+                .into());
             }
             if !dry_run {
                 std::fs::create_dir_all(run_dir).map_err(|e| io(e, run_dir))?;
@@ -41,17 +44,19 @@ pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), Str
 }
 
 /// Whether `run_dir` is stamped with `uid` (what `collect` reads only then).
-pub fn run_dir_is(run_dir: &Path, uid: &str) -> Result<(), String> {
+pub fn run_dir_is(run_dir: &Path, uid: &str) -> Result<(), SlurmError> {
     match std::fs::read_to_string(run_dir.join(STAMP)) {
         Ok(found) if found.trim() == uid => Ok(()),
         Ok(found) => Err(format!(
             "{} holds the files of another sweep (uid {}, this one is {uid}); not read",
             run_dir.display(),
             found.trim()
-        )),
+        )
+        .into()),
         Err(_) => Err(format!(
             "{} has no {STAMP} naming this sweep; not read",
             run_dir.display()
-        )),
+        )
+        .into()),
     }
 }

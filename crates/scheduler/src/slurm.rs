@@ -19,6 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use cellsweep_solver::Config;
 use cellsweep_store::{JobState, SlurmArray, Store};
 
+use crate::error::SlurmError;
 use crate::ledger::{Ledger, Settlement};
 use crate::run_dir::{claim_run_dir, run_dir_is};
 use crate::wire::{PrepPayload, Request, Response};
@@ -51,8 +52,11 @@ pub struct Submission {
     pub slurm_ids: Vec<(String, String)>,
 }
 
-pub(crate) fn io(e: std::io::Error, what: &Path) -> String {
-    format!("{}: {e}", what.display())
+pub(crate) fn io(e: std::io::Error, what: &Path) -> SlurmError {
+    SlurmError::Io {
+        path: what.display().to_string(),
+        source: e,
+    }
 }
 
 /// MaxArraySize of the cluster (`scontrol show config`); array indices must stay below it.
@@ -76,7 +80,7 @@ pub fn shell_quote(s: &str) -> String {
 impl SubmitOptions {
     /// Every value that reaches a script must stay on its line: no newline, carriage return
     /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SlurmError> {
         let mut values: Vec<(&str, String)> = vec![
             ("--run-dir", self.run_dir.display().to_string()),
             (
@@ -91,7 +95,8 @@ impl SubmitOptions {
             if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
                 return Err(format!(
                     "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
-                ));
+                )
+                .into());
             }
         }
         Ok(())
@@ -134,19 +139,19 @@ pub fn script(
     s
 }
 
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SlurmError> {
     let tmp = path.with_extension("tmp");
     std::fs::write(&tmp, bytes).map_err(|e| io(e, &tmp))?;
     std::fs::rename(&tmp, path).map_err(|e| io(e, path))
 }
 
-fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, String> {
+fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, SlurmError> {
     std::fs::create_dir_all(dir).map_err(|e| io(e, dir))?;
     let mut n = 0;
     for (k, chunk) in reqs.chunks(per_task.max(1)).enumerate() {
         let mut text = String::new();
         for r in chunk {
-            text += &serde_json::to_string(r).map_err(|e| e.to_string())?;
+            text += &serde_json::to_string(r)?;
             text.push('\n');
         }
         write_atomic(&dir.join(format!("{k}.jsonl")), text.as_bytes())?;
@@ -155,7 +160,7 @@ fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, S
     Ok(n)
 }
 
-fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, String> {
+fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, SlurmError> {
     let mut cmd = std::process::Command::new("sbatch");
     cmd.arg("--parsable");
     if let Some(d) = dependency {
@@ -170,7 +175,8 @@ fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, String> {
             "sbatch {} failed: {}",
             script.display(),
             String::from_utf8_lossy(&out.stderr).trim()
-        ));
+        )
+        .into());
     }
     let id = String::from_utf8_lossy(&out.stdout)
         .trim()
@@ -191,23 +197,22 @@ pub fn submit(
     name: &str,
     version: &str,
     opts: &SubmitOptions,
-) -> Result<Submission, String> {
-    let e = |x: cellsweep_store::StoreError| x.to_string();
+) -> Result<Submission, SlurmError> {
     let preps_dir = opts.run_dir.join("preps");
     // (A dry run of a sweep never submitted has no uid yet: nothing to compare with.)
-    if let Some(uid) = store.sweep_uid(sweep_id, !opts.dry_run).map_err(e)? {
+    if let Some(uid) = store.sweep_uid(sweep_id, !opts.dry_run)? {
         claim_run_dir(&opts.run_dir, &uid, opts.dry_run)?;
     }
     if !opts.dry_run {
         // Work left `running` by a local run that was killed is unfinished: submit it too.
-        store.recover_running(sweep_id, version).map_err(e)?;
-        let ledger = Ledger::load(store, sweep_id, version).map_err(|x| x.to_string())?;
-        ledger.settle_decided(store).map_err(|x| x.to_string())?;
+        store.recover_running(sweep_id, version)?;
+        let ledger = Ledger::load(store, sweep_id, version)?;
+        ledger.settle_decided(store)?;
         // An adaptive sweep's next round, for the points whose round is complete.
-        ledger.plan_rounds(store).map_err(|x| x.to_string())?;
+        ledger.plan_rounds(store)?;
     }
-    let preps = store.preps_of(sweep_id, version).map_err(e)?;
-    let jobs = store.pending_jobs(sweep_id, version).map_err(e)?;
+    let preps = store.preps_of(sweep_id, version)?;
+    let jobs = store.pending_jobs(sweep_id, version)?;
     // Preps decided earlier: a verdict that is not ok settles its jobs; ok preps are written
     // out for the collision tasks.
     let mut prep_reqs = Vec::new();
@@ -219,12 +224,7 @@ pub fn submit(
                 if !path.exists() && !opts.dry_run {
                     std::fs::create_dir_all(&preps_dir).map_err(|x| io(x, &preps_dir))?;
                     let payload = payload_from_store(store, p.id, p.seed)?;
-                    write_atomic(
-                        &path,
-                        serde_json::to_string(&payload)
-                            .map_err(|x| x.to_string())?
-                            .as_bytes(),
-                    )?;
+                    write_atomic(&path, serde_json::to_string(&payload)?.as_bytes())?;
                 }
             }
             // Its verdict settled its jobs (the ledger, above).
@@ -235,7 +235,7 @@ pub fn submit(
                 blocked.insert(p.id);
             }
             _ => {
-                let config: Config = serde_json::from_str(&p.config).map_err(|x| x.to_string())?;
+                let config: Config = serde_json::from_str(&p.config)?;
                 prep_reqs.push(Request::Prep {
                     task: p.id,
                     attempt: p.attempts + 1,
@@ -247,7 +247,7 @@ pub fn submit(
     }
     let mut job_reqs = Vec::new();
     for j in jobs.iter().filter(|j| !blocked.contains(&j.prep_id)) {
-        let config: Config = serde_json::from_str(&j.config).map_err(|x| x.to_string())?;
+        let config: Config = serde_json::from_str(&j.config)?;
         job_reqs.push(Request::Collide {
             task: j.id,
             attempt: j.attempts + 1,
@@ -309,28 +309,26 @@ pub fn submit(
         } else {
             (sub.collide_tasks, sub.jobs)
         };
-        store
-            .record_array(
-                sweep_id,
-                version,
-                &SlurmArray {
-                    kind: kind.clone(),
-                    slurm_job_id: id.clone(),
-                    run_dir: opts.run_dir.display().to_string(),
-                    tasks: tasks as i64,
-                    jobs: count as i64,
-                    submitted_at: cellsweep_store::now(),
-                },
-            )
-            .map_err(e)?;
+        store.record_array(
+            sweep_id,
+            version,
+            &SlurmArray {
+                kind: kind.clone(),
+                slurm_job_id: id.clone(),
+                run_dir: opts.run_dir.display().to_string(),
+                tasks: tasks as i64,
+                jobs: count as i64,
+                submitted_at: cellsweep_store::now(),
+            },
+        )?;
         sub.slurm_ids.push((kind, id.clone()));
         previous = Some(id);
     }
     Ok(sub)
 }
 
-fn payload_from_store(store: &Store, prep_id: i64, seed: u64) -> Result<PrepPayload, String> {
-    PrepPayload::from_record(store.load_prep(prep_id).map_err(|e| e.to_string())?, seed)
+fn payload_from_store(store: &Store, prep_id: i64, seed: u64) -> Result<PrepPayload, SlurmError> {
+    Ok(PrepPayload::from_record(store.load_prep(prep_id)?, seed)?)
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -342,7 +340,7 @@ extern "C" fn on_usr1(_: libc::c_int) {
 /// The array task's side: run the requests of `SUB_DIR/tasks/<kind>/<SLURM_ARRAY_TASK_ID>.jsonl`
 /// that have no result yet, appending each response to `SUB_DIR/results/<kind>-<task>.jsonl`.
 /// On SIGUSR1 (Slurm's warning before the time limit) it stops after the current record.
-pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
+pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
     // SAFETY: the handler only stores to an atomic.
     unsafe {
         libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
@@ -395,20 +393,16 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
                 .map_err(|e| io(e, &path))
                 .and_then(|t| {
                     serde_json::from_str::<PrepPayload>(&t)
-                        .map_err(|e| format!("{}: {e}", path.display()))
+                        .map_err(|e| format!("{}: {e}", path.display()).into())
                 }) {
                 Ok(p) => *prep = Some(Box::new(p)),
                 Err(error) => {
                     let resp = Response::Failed {
                         task: req.task(),
-                        error,
+                        error: error.to_string(),
                     };
-                    writeln!(
-                        out,
-                        "{}",
-                        serde_json::to_string(&resp).map_err(|e| e.to_string())?
-                    )
-                    .map_err(|e| io(e, &results))?;
+                    writeln!(out, "{}", serde_json::to_string(&resp)?)
+                        .map_err(|e| io(e, &results))?;
                     continue;
                 }
             }
@@ -417,14 +411,9 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), String> {
         if let Response::Prep { task, prep, .. } = &resp {
             let path = preps_dir.join(format!("{task}.json"));
             // The prep file itself is the result.
-            write_atomic(
-                &path,
-                serde_json::to_string(prep)
-                    .map_err(|e| e.to_string())?
-                    .as_bytes(),
-            )?;
+            write_atomic(&path, serde_json::to_string(prep)?.as_bytes())?;
         } else {
-            let mut line = serde_json::to_vec(&resp).map_err(|e| e.to_string())?;
+            let mut line = serde_json::to_vec(&resp)?;
             line.push(b'\n');
             out.write_all(&line).map_err(|e| io(e, &results))?;
             out.sync_data().map_err(|e| io(e, &results))?;
@@ -486,21 +475,15 @@ pub fn collect(
     sweep_id: i64,
     version: &str,
     run_dir: &Path,
-) -> Result<Collected, String> {
-    let e = |x: crate::error::RunError| x.to_string();
-    let ledger = Ledger::load(store, sweep_id, version).map_err(e)?;
+) -> Result<Collected, SlurmError> {
+    let ledger = Ledger::load(store, sweep_id, version)?;
     let mut c = Collected::default();
-    let uid = store
-        .sweep_uid(sweep_id, true)
-        .map_err(|x| x.to_string())?
-        .expect("created");
+    let uid = store.sweep_uid(sweep_id, true)?.expect("created");
     if let Err(why) = run_dir_is(run_dir, &uid) {
-        c.problems.push(why);
+        c.problems.push(why.to_string());
         return Ok(c);
     }
-    let preps = store
-        .preps_of(sweep_id, version)
-        .map_err(|x| x.to_string())?;
+    let preps = store.preps_of(sweep_id, version)?;
     let preps_dir = run_dir.join("preps");
     for p in preps.iter().filter(|p| p.state != JobState::Done) {
         let path = preps_dir.join(format!("{}.json", p.id));
@@ -518,7 +501,7 @@ pub fn collect(
                 continue;
             }
         };
-        let s = ledger.settle_prep(store, p.id, &payload, 0.0).map_err(e)?;
+        let s = ledger.settle_prep(store, p.id, &payload, 0.0)?;
         match s.settlement {
             Settlement::New => c.preps += 1,
             Settlement::Already => {}
@@ -547,7 +530,7 @@ pub fn collect(
                     task,
                     result,
                     wall_s,
-                } => match ledger.settle_job(store, task, &result, wall_s).map_err(e)? {
+                } => match ledger.settle_job(store, task, &result, wall_s)? {
                     Settlement::New => c.results += 1,
                     Settlement::Already => c.already += 1,
                     Settlement::Refused(why) => {
@@ -559,7 +542,7 @@ pub fn collect(
             }
         }
     }
-    c.planned = ledger.plan_rounds(store).map_err(e)?;
+    c.planned = ledger.plan_rounds(store)?;
     Ok(c)
 }
 

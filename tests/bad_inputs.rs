@@ -565,6 +565,24 @@ fn bad_flags_and_stores_get_one_line_and_change_nothing() {
             failures.push(why);
         }
     }
+    // An export whose sweep definition carries a name that could escape is refused too.
+    // (The committed export's own header, with the name changed.)
+    let export = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/paper/adaptive-L90-sigma5.csv"
+    ))
+    .unwrap();
+    let head: String = export.lines().take(2).map(|l| format!("{l}\n")).collect();
+    assert!(head.contains("\"name\":\"adaptive-L90-sigma5\""));
+    std::fs::write(
+        dir.join("x.csv"),
+        head.replace("\"name\":\"adaptive-L90-sigma5\"", "\"name\":\"../x$(id)\""),
+    )
+    .unwrap();
+    let out = cellsweep_in(&dir, &["import", "x.csv", "--db", "r.sqlite"]);
+    if let Err(why) = check(&out, "x.csv: line 2: name:", "import with a bad spec name") {
+        failures.push(why);
+    }
     all_ok(failures);
     assert_eq!(std::fs::read(dir.join("r.sqlite")).unwrap(), before);
     // A corrupt page inside the store: writers refuse it and leave it as it is.

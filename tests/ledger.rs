@@ -168,13 +168,9 @@ fn script_values_with_a_newline_are_refused_and_paths_are_quoted() {
 #[test]
 fn a_prep_that_blows_up_is_stored_as_breakup_with_its_nan_summaries() {
     let dir = workdir("ledger", "nan");
-    // alpha 0.18 with dt = t_sample = 0.01 on a small cell (R0 = 20, d = sqrt 5): the explicit
-    // step is within its stability guard, but the field blows up to NaN within the relaxation.
     std::fs::write(
         dir.join("nan.toml"),
-        "name = \"nan\"\nseed = 1\nreplicates = 2\n[grid]\nalpha = [0.18]\nbeta = [10]\nL = [40]\nsigma = [5]\n\
-         [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
-         [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n",
+        common::NAN_SWEEP.replace("{name}", "nan"),
     )
     .unwrap();
     let out = cellsweep_in(&dir, &["run", "nan.toml", "--db", "r.sqlite"]);

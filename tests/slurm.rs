@@ -494,9 +494,7 @@ fn a_prep_that_blows_up_on_slurm_is_collected_as_breakup_and_not_resent() {
     let dir = workdir("nan");
     std::fs::write(
         dir.join("s.toml"),
-        "name = \"slurm-nan\"\nseed = 1\nreplicates = 2\n[grid]\nalpha = [0.18]\nbeta = [10]\nL = [40]\nsigma = [5]\n\
-         [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
-         [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n",
+        common::NAN_SWEEP.replace("{name}", "slurm-nan"),
     )
     .unwrap();
     let out = cellsweep(

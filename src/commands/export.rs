@@ -75,6 +75,8 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
         .with_context(|| format!("{file}: line 2: missing the sweep's definition (# spec ...)"))?;
     let sweep: Sweep = serde_json::from_str(spec)
         .map_err(|e| anyhow::anyhow!("{file}: line 2: malformed sweep definition: {e}"))?;
+    cellsweep_scheduler::sweep::check_name(&sweep.name)
+        .map_err(|e| anyhow::anyhow!("{file}: line 2: name: {e}"))?;
     for p in sweep.points() {
         sweep
             .protocol

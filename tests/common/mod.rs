@@ -81,3 +81,10 @@ pub fn try_query(db: &Path, sql: &str) -> Option<i64> {
     c.busy_timeout(std::time::Duration::from_secs(5)).ok()?;
     c.query_row(sql, [], |r| r.get(0)).ok()
 }
+
+/// A sweep whose one prep blows up to NaN: alpha 0.18 with dt = t_sample = 0.01 on a small
+/// cell (R0 = 20, d = sqrt 5) is within the explicit step's stability guard, but the field
+/// diverges within the relaxation. `{name}` is replaced by the sweep's name.
+pub const NAN_SWEEP: &str = "name = \"{name}\"\nseed = 1\nreplicates = 2\n[grid]\nalpha = [0.18]\nbeta = [10]\nL = [40]\nsigma = [5]\n\
+     [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
+     [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n";

@@ -46,7 +46,6 @@ pub struct Ledger {
     pub sweep_id: i64,
     pub version: String,
     pub sweep: Sweep,
-    source: String,
     /// JSON of the sweep's classifier settings, stored with every result.
     classifier: String,
 }
@@ -112,7 +111,6 @@ impl Ledger {
             sweep_id,
             version: version.to_string(),
             classifier: serde_json::to_string(&sweep.classifier)?,
-            source: String::new(),
             sweep,
         })
     }
@@ -373,7 +371,8 @@ impl Ledger {
         if added == 0 {
             return Ok(0);
         }
-        let new = plan_targets(&self.sweep, &self.source, &|i| targets[i]);
+        // The sweep is registered already: the source it was read from stays as stored.
+        let new = plan_targets(&self.sweep, "", &|i| targets[i]);
         store.register(&new, false)?;
         self.settle_decided(store)?;
         Ok(added as usize)

@@ -119,6 +119,19 @@ pub const MAX_JOB_TIMEOUT: f64 = 30.0 * 86_400.0;
 /// Most attempts of one job.
 pub const MAX_ATTEMPTS: u64 = 100;
 
+/// A sweep name, checked: 1 to 100 of `A-Z a-z 0-9 . _ -`, not starting with a dot (the name
+/// becomes a directory, a Slurm job name and a word in scripts).
+pub fn check_name(name: &str) -> Result<(), String> {
+    let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
+    if name.is_empty() || name.len() > 100 || name.starts_with('.') || !name.chars().all(allowed) {
+        return Err(format!(
+            "{name:?} is not a sweep name: 1 to 100 of the characters A-Z a-z 0-9 . _ -, not \
+             starting with a dot"
+        ));
+    }
+    Ok(())
+}
+
 /// A job timeout in seconds, checked: finite, > 0, at most [`MAX_JOB_TIMEOUT`].
 pub fn job_timeout(x: f64) -> Result<f64, String> {
     if x.is_finite() && x > 0.0 && x <= MAX_JOB_TIMEOUT {
@@ -216,21 +229,7 @@ impl Sweep {
             Some(_) => return Err(cx.err("name", "must be a string")),
             None => return Err(cx.err("name", "missing")),
         };
-        // The name becomes a directory, a Slurm job name and a word in scripts.
-        let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
-        if name.is_empty()
-            || name.len() > 100
-            || name.starts_with('.')
-            || !name.chars().all(allowed)
-        {
-            return Err(cx.err(
-                "name",
-                format!(
-                    "{name:?} is not a sweep name: 1 to 100 of the characters A-Z a-z 0-9 . _ -, \
-                     not starting with a dot"
-                ),
-            ));
-        }
+        check_name(&name).map_err(|p| cx.err("name", p))?;
         let seed = match top.get("seed") {
             Some(v) => cx.uint(v, "seed", 0)?,
             None => return Err(cx.err("seed", "missing")),

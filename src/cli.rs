@@ -390,7 +390,7 @@ fn job_timeout_flag(s: &str) -> Result<f64, String> {
     let x: f64 = s
         .parse()
         .map_err(|_| format!("{s:?} is not a number of seconds"))?;
-    cellsweep_scheduler::sweep::job_timeout(x)
+    cellsweep_scheduler::sweep::job_timeout(x).map_err(|e| e.to_string())
 }
 
 fn grace_seconds(s: &str) -> Result<f64, String> {

@@ -264,6 +264,48 @@ const SWEEPS: &[(&str, &str, &str)] = &[
         "[adaptive]\nbatches = 3\n[run]",
         "adaptive.batches",
     ),
+    // Shapes that only a typed parser catches.
+    ("alpha = [0.1]", "alpha = [0.1, \"a\"]", "grid.alpha"),
+    ("beta = [10]", "beta = [10, inf]", "grid.beta"),
+    ("[grid]", "grid = 3\n[grids]", "grid"),
+    ("[params]", "[params.x]", "params.x"),
+    ("R0 = 24", "R0 = 24\nL = 48", "params.L"),
+    (
+        "single_lattice = [96, 96]",
+        "single_lattice = [96, \"96\"]",
+        "protocol.single_lattice",
+    ),
+    (
+        "single_lattice = [96, 96]",
+        "single_lattice = [96, 96, 96]",
+        "protocol.single_lattice",
+    ),
+    (
+        "collide_time = 2",
+        "collide_time = 2\npatch_bound = nan",
+        "protocol.patch_bound",
+    ),
+    (
+        "sustain_window = 25",
+        "sustain_window = [25]",
+        "classifier.sustain_window",
+    ),
+    (
+        "[run]",
+        "[adaptive]\nerror = \"small\"\n[run]",
+        "adaptive.error",
+    ),
+    (
+        "[run]",
+        "[adaptive]\nbatch = 100000\n[run]",
+        "adaptive.batch",
+    ),
+    ("seed = 1", "seed = 1\ndescription = 5", "description"),
+    (
+        "job_timeout = 3600",
+        "job_timeout = 3600\nmax_attempts = 1e2",
+        "run.max_attempts",
+    ),
     // Not TOML at all.
     ("[grid]", "[grid", "line"),
     ("seed = 1", "seed = = 1", "line"),

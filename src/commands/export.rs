@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::wire::PrepPayload;
-use cellsweep_scheduler::{plan_targets, Ledger, Settlement, StoreLock, Sweep};
+use cellsweep_scheduler::{plan_targets, Ledger, RowCheck, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
@@ -154,9 +154,9 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     let mut already = 0;
     for r in &rows {
         match ledger.check_row(&store, r)? {
-            Ok(Some(job)) => to_commit.push((job, r)),
-            Ok(None) => already += 1,
-            Err(why) => refused.push(why),
+            RowCheck::Commit(job) => to_commit.push((job, r)),
+            RowCheck::Already => already += 1,
+            RowCheck::Refused(why) => refused.push(why),
         }
     }
     if !refused.is_empty() {

@@ -81,10 +81,6 @@ struct Worker {
 }
 
 /// A malformed prep in transit or in the store.
-fn config_error(e: String) -> RunError {
-    RunError::Config(serde::de::Error::custom(e))
-}
-
 fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, n: i64) {
     let slot = match (verdict, outcome) {
         (_, Some(Outcome::Train)) => &mut outcomes.train,
@@ -163,8 +159,7 @@ impl Run<'_> {
             return Ok(p.clone());
         }
         let seed = self.prep_seeds.get(&prep_id).copied().unwrap_or_default();
-        let payload =
-            PrepPayload::from_record(self.store.load_prep(prep_id)?, seed).map_err(config_error)?;
+        let payload = PrepPayload::from_record(self.store.load_prep(prep_id)?, seed)?;
         self.payloads.insert(prep_id, payload.clone());
         Ok(payload)
     }
@@ -470,7 +465,7 @@ pub async fn run_sweep(
                     if let Some(w) = workers.get_mut(&worker) {
                         w.preps.clear();
                         if let Some(busy) = w.busy.take() {
-                            if let Err(e) = run.on_failure(busy, &error) { fatal = Some(e); break; }
+                            if let Err(e) = run.on_failure(busy, &error.to_string()) { fatal = Some(e); break; }
                         }
                     }
                 }

@@ -21,6 +21,74 @@ impl SweepError {
     }
 }
 
+/// A single value that cannot be used: a sweep name, a job timeout.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ValueError {
+    #[error(
+        "{0:?} is not a sweep name: 1 to 100 of the characters A-Z a-z 0-9 . _ -, not starting \
+         with a dot"
+    )]
+    Name(String),
+    #[error("{value} is not a number of seconds in (0, {max}] (30 days)")]
+    Timeout { value: f64, max: f64 },
+}
+
+/// A grid axis that cannot be used.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AxisError {
+    #[error("is empty")]
+    Empty,
+    #[error("{0} values: more than {max}", max = crate::grid::MAX_AXIS_POINTS)]
+    TooMany(usize),
+    #[error("{0} is not a finite number")]
+    NotFinite(f64),
+    #[error("from, to and step must be finite numbers")]
+    RangeNotFinite,
+    #[error("step = {0} must be > 0")]
+    StepNotPositive(f64),
+    #[error("to = {to} is below from = {from}")]
+    Reversed { from: f64, to: f64 },
+    #[error("(to - from) / step = {0:e}: more than {max} points", max = crate::grid::MAX_AXIS_POINTS)]
+    RangeTooLong(f64),
+    #[error("(to - from) / step = {steps} is not a whole number, so {to} is not on the range")]
+    NotWhole { steps: f64, to: f64 },
+    #[error("{0} appears twice")]
+    Twice(f64),
+}
+
+/// A prep in transit (or as stored) that does not decode.
+#[derive(Debug, Error)]
+pub enum PayloadError {
+    #[error("bad field encoding: {0}")]
+    Encoding(#[from] base64::DecodeError),
+    #[error("prep fields have {phi} and {p} values, lattice needs {n}")]
+    Size { phi: usize, p: usize, n: usize },
+    #[error("prep summary: {0}")]
+    Summary(#[from] serde_json::Error),
+    #[error("prep summary {key}: {source}")]
+    SummaryField {
+        key: &'static str,
+        #[source]
+        source: serde_json::Error,
+    },
+}
+
+/// A worker call that got no valid answer; the job is retried.
+#[derive(Debug, Error)]
+pub enum CallError {
+    #[error("cannot encode the request: {0}")]
+    Encode(serde_json::Error),
+    #[error("timed out after {0} s (worker killed)")]
+    TimedOut(f64),
+    #[error("worker answered task {got} instead of {sent}")]
+    WrongTask { got: i64, sent: i64 },
+    #[error("malformed reply from worker: {0}")]
+    Malformed(serde_json::Error),
+    /// The worker process ended: how, with the last line it wrote to stderr.
+    #[error("{0}")]
+    Exited(String),
+}
+
 /// Failures of a run (not of single jobs: those are retried and recorded in the store).
 #[derive(Debug, Error)]
 pub enum RunError {
@@ -34,6 +102,8 @@ pub enum RunError {
     },
     #[error("stored configuration is malformed: {0}")]
     Config(#[from] serde_json::Error),
+    #[error("stored prep is malformed: {0}")]
+    Prep(#[from] PayloadError),
 }
 
 /// Failures of the Slurm engine: writing a run directory, calling sbatch, reading results.
@@ -51,6 +121,8 @@ pub enum SlurmError {
     Run(#[from] RunError),
     #[error("malformed JSON: {0}")]
     Json(#[from] serde_json::Error),
+    #[error(transparent)]
+    Payload(#[from] PayloadError),
     /// A value, directory or answer that cannot be used, with the reason.
     #[error("{0}")]
     Refused(String),

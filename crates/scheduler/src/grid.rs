@@ -1,8 +1,7 @@
 //! Grid axes: ranges that include both ends without floating-point drift, or explicit lists.
 
-use toml::Value;
-
-use crate::sweep::number;
+use crate::error::AxisError;
+use crate::sweep_file::AxisFile;
 
 /// The values along one grid axis.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,82 +21,56 @@ pub fn clean(x: f64) -> f64 {
 }
 
 /// `from, from + step, ..., to`, both ends included; `(to - from) / step` must be whole.
-pub fn range(from: f64, to: f64, step: f64) -> Result<Vec<f64>, String> {
+pub fn range(from: f64, to: f64, step: f64) -> Result<Vec<f64>, AxisError> {
     if !(from.is_finite() && to.is_finite() && step.is_finite()) {
-        return Err("from, to and step must be finite numbers".into());
+        return Err(AxisError::RangeNotFinite);
     }
     if step <= 0.0 {
-        return Err(format!("step = {step} must be > 0"));
+        return Err(AxisError::StepNotPositive(step));
     }
     if to < from {
-        return Err(format!("to = {to} is below from = {from}"));
+        return Err(AxisError::Reversed { from, to });
     }
     let n = (to - from) / step;
     // (n is finite here: from, to and step are, and step > 0.)
     if n >= MAX_AXIS_POINTS as f64 {
-        return Err(format!(
-            "(to - from) / step = {n:e}: more than {MAX_AXIS_POINTS} points"
-        ));
+        return Err(AxisError::RangeTooLong(n));
     }
     let k = n.round();
     if (n - k).abs() > 1e-6 {
-        return Err(format!(
-            "(to - from) / step = {n} is not a whole number, so {to} is not on the range"
-        ));
+        return Err(AxisError::NotWhole { steps: n, to });
     }
     if k as usize + 1 > MAX_AXIS_POINTS {
-        return Err(format!("{} points is too many", k as usize + 1));
+        return Err(AxisError::RangeTooLong(n));
     }
     Ok((0..=k as usize)
         .map(|i| clean(from + i as f64 * step))
         .collect())
 }
 
-/// An axis from a TOML value: a number, a non-empty list of numbers, or `{ from, to, step }`.
-pub fn parse_axis(v: &Value) -> Result<Axis, String> {
-    let values = match v {
-        Value::Array(items) => {
+/// An axis as written in a sweep file, checked: a number, a non-empty list of distinct
+/// finite numbers, or a range.
+pub fn axis(spec: &AxisFile) -> Result<Axis, AxisError> {
+    let values = match spec {
+        AxisFile::One(x) => vec![*x],
+        AxisFile::List(items) => {
             if items.is_empty() {
-                return Err("is empty".into());
+                return Err(AxisError::Empty);
             }
             if items.len() > MAX_AXIS_POINTS {
-                return Err(format!(
-                    "{} values: more than {MAX_AXIS_POINTS}",
-                    items.len()
-                ));
+                return Err(AxisError::TooMany(items.len()));
             }
-            let mut out = Vec::with_capacity(items.len());
-            for item in items {
-                match number(item) {
-                    Some(x) if x.is_finite() => out.push(clean(x)),
-                    _ => return Err(format!("{item} is not a number")),
-                }
-            }
-            out
+            items.clone()
         }
-        Value::Table(t) => {
-            for key in t.keys() {
-                if !["from", "to", "step"].contains(&key.as_str()) {
-                    return Err(format!(
-                        "unknown range key {key:?} (expected from, to, step)"
-                    ));
-                }
-            }
-            let get = |k: &str| {
-                t.get(k)
-                    .and_then(number)
-                    .ok_or_else(|| format!("range needs a number {k:?}"))
-            };
-            range(get("from")?, get("to")?, get("step")?)?
-        }
-        other => match number(other) {
-            Some(x) if x.is_finite() => vec![clean(x)],
-            _ => return Err("must be a number, a list of numbers, or { from, to, step }".into()),
-        },
+        AxisFile::Range { from, to, step } => range(*from, *to, *step)?,
     };
+    if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+        return Err(AxisError::NotFinite(*x));
+    }
+    let values: Vec<f64> = values.into_iter().map(clean).collect();
     for (i, a) in values.iter().enumerate() {
         if values[..i].contains(a) {
-            return Err(format!("{a} appears twice"));
+            return Err(AxisError::Twice(*a));
         }
     }
     Ok(Axis { values })
@@ -119,19 +92,35 @@ mod tests {
 
     #[test]
     fn bad_ranges_say_why() {
-        assert!(range(0.1, 0.2, 0.0).unwrap_err().contains("step"));
-        assert!(range(0.2, 0.1, 0.02).unwrap_err().contains("below"));
-        assert!(range(0.1, 0.2, 0.03).unwrap_err().contains("whole"));
+        assert!(range(0.1, 0.2, 0.0)
+            .unwrap_err()
+            .to_string()
+            .contains("step"));
+        assert!(range(0.2, 0.1, 0.02)
+            .unwrap_err()
+            .to_string()
+            .contains("below"));
+        assert!(range(0.1, 0.2, 0.03)
+            .unwrap_err()
+            .to_string()
+            .contains("whole"));
         assert!(range(0.1, 0.2, 1e-300)
             .unwrap_err()
+            .to_string()
             .contains("more than 1000"));
         assert!(range(0.0, 1000.0, 1.0)
             .unwrap_err()
+            .to_string()
             .contains("more than 1000"));
-        assert!(parse_axis(&Value::Array(vec![]))
+        assert!(axis(&AxisFile::List(vec![]))
             .unwrap_err()
+            .to_string()
             .contains("empty"));
-        let dup: Value = toml::from_str::<toml::Table>("a = [1, 2, 1]").unwrap()["a"].clone();
-        assert!(parse_axis(&dup).unwrap_err().contains("twice"));
+        let dup = AxisFile::List(vec![1.0, 2.0, 1.0]);
+        assert!(axis(&dup).unwrap_err().to_string().contains("twice"));
+        assert!(axis(&AxisFile::One(f64::NAN))
+            .unwrap_err()
+            .to_string()
+            .contains("finite"));
     }
 }

@@ -32,6 +32,17 @@ pub enum Settlement {
     Refused(String),
 }
 
+/// What [`Ledger::check_row`] found of an exported row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RowCheck {
+    /// The row matches this job, which has no result yet.
+    Commit(i64),
+    /// The row matches a job that already has its result.
+    Already,
+    /// The row does not match the job it claims, with the reason.
+    Refused(String),
+}
+
 /// A committed prep: its verdict and how many jobs that verdict settled.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrepSettled {
@@ -210,7 +221,7 @@ impl Ledger {
         } else {
             let rec = match payload.to_record(wall_s) {
                 Ok(r) => r,
-                Err(why) => return refuse(why),
+                Err(why) => return refuse(why.to_string()),
             };
             store.collect_prep(prep_id, &rec)?;
             Settlement::New
@@ -381,17 +392,13 @@ impl Ledger {
     /// Check an exported row (`cellsweep export`) against the job it claims: its sweep, point,
     /// replicate, both seeds, the parameters that differ from the defaults, precision,
     /// classifier, solver version, and the prep's verdict and field hash (so the prep must be
-    /// computed). Ok(Some(job)) for a row to commit, Ok(None) for one already in the store.
-    pub fn check_row(
-        &self,
-        store: &Store,
-        row: &ExportRow,
-    ) -> Result<Result<Option<i64>, String>, RunError> {
+    /// computed).
+    pub fn check_row(&self, store: &Store, row: &ExportRow) -> Result<RowCheck, RunError> {
         let at = format!(
             "alpha = {}, beta = {}, L = {}, sigma = {}, replicate {}",
             row.alpha, row.beta, row.L, row.sigma, row.replicate
         );
-        let refuse = |why: String| Ok(Err(format!("{at}: {why}")));
+        let refuse = |why: String| Ok(RowCheck::Refused(format!("{at}: {why}")));
         if row.sweep != self.sweep.name {
             return refuse(format!(
                 "a row of sweep {:?}, not {:?}",
@@ -459,7 +466,10 @@ impl Ledger {
                 row.verdict, row.outcome
             ));
         }
-        Ok(Ok((job.state != JobState::Done).then_some(job_id)))
+        Ok(match job.state {
+            JobState::Done => RowCheck::Already,
+            _ => RowCheck::Commit(job_id),
+        })
     }
 
     /// Commit a row that [`Ledger::check_row`] passed, as the result of `job_id`.

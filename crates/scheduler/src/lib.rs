@@ -17,12 +17,13 @@ pub mod pool;
 pub mod run_dir;
 pub mod slurm;
 pub mod sweep;
+pub mod sweep_file;
 pub mod wire;
 pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
-pub use error::{RunError, SlurmError, SweepError};
-pub use ledger::{Ledger, Settlement};
+pub use error::{AxisError, CallError, PayloadError, RunError, SlurmError, SweepError, ValueError};
+pub use ledger::{Ledger, RowCheck, Settlement};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_targets};
 pub use pool::WorkerCommand;

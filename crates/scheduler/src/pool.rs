@@ -12,6 +12,7 @@ use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader, Lines};
 use tokio::process::{Child, ChildStdin, ChildStdout, Command};
 use tokio::sync::mpsc;
 
+use crate::error::CallError;
 use crate::wire::{Request, Response};
 
 /// How to start a worker process.
@@ -28,7 +29,7 @@ pub enum Event {
     Reply { worker: usize, response: Response },
     /// The worker's process was lost on its current request (crash, hang, bad reply); a fresh
     /// process has taken its place (with an empty prep cache).
-    Lost { worker: usize, error: String },
+    Lost { worker: usize, error: CallError },
     /// No process could be started for this worker; it is gone.
     Dead { worker: usize, error: String },
 }
@@ -91,8 +92,8 @@ impl Process {
     }
 
     /// Send one request and wait for its response.
-    async fn call(&mut self, req: &Request, timeout: Duration) -> Result<Response, String> {
-        let mut line = serde_json::to_string(req).map_err(|e| e.to_string())?;
+    async fn call(&mut self, req: &Request, timeout: Duration) -> Result<Response, CallError> {
+        let mut line = serde_json::to_string(req).map_err(CallError::Encode)?;
         line.push('\n');
         let sent = async {
             self.stdin.write_all(line.as_bytes()).await?;
@@ -100,26 +101,22 @@ impl Process {
         }
         .await;
         if sent.is_err() {
-            return Err(self.exit_message().await);
+            return Err(CallError::Exited(self.exit_message().await));
         }
         match tokio::time::timeout(timeout, self.stdout.next_line()).await {
             Err(_) => {
                 let _ = self.child.start_kill();
-                Err(format!(
-                    "timed out after {} s (worker killed)",
-                    timeout.as_secs_f64()
-                ))
+                Err(CallError::TimedOut(timeout.as_secs_f64()))
             }
             Ok(Ok(Some(reply))) => match serde_json::from_str::<Response>(&reply) {
                 Ok(r) if r.task() == req.task() => Ok(r),
-                Ok(r) => Err(format!(
-                    "worker answered task {} instead of {}",
-                    r.task(),
-                    req.task()
-                )),
-                Err(e) => Err(format!("malformed reply from worker: {e}")),
+                Ok(r) => Err(CallError::WrongTask {
+                    got: r.task(),
+                    sent: req.task(),
+                }),
+                Err(e) => Err(CallError::Malformed(e)),
             },
-            Ok(_) => Err(self.exit_message().await),
+            Ok(_) => Err(CallError::Exited(self.exit_message().await)),
         }
     }
 

@@ -35,10 +35,10 @@ use std::path::Path;
 use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
 use cellsweep_store::AdaptiveRule;
 use serde::{Deserialize, Serialize};
-use toml::{Table, Value};
 
-use crate::error::SweepError;
-use crate::grid::{parse_axis, Axis};
+use crate::error::{SweepError, ValueError};
+use crate::grid;
+use crate::sweep_file::{self, AxisFile, ProtocolFile, Whole};
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -90,20 +90,6 @@ pub struct Sweep {
     pub run: RunSettings,
 }
 
-const TOP_KEYS: &[&str] = &[
-    "name",
-    "description",
-    "seed",
-    "replicates",
-    "preps_per_point",
-    "geometry",
-    "grid",
-    "params",
-    "protocol",
-    "classifier",
-    "adaptive",
-    "run",
-];
 const GRID_KEYS: &[&str] = &["alpha", "beta", "L", "sigma"];
 
 /// Most replicates per point (and preps per point).
@@ -121,37 +107,27 @@ pub const MAX_ATTEMPTS: u64 = 100;
 
 /// A sweep name, checked: 1 to 100 of `A-Z a-z 0-9 . _ -`, not starting with a dot (the name
 /// becomes a directory, a Slurm job name and a word in scripts).
-pub fn check_name(name: &str) -> Result<(), String> {
+pub fn check_name(name: &str) -> Result<(), ValueError> {
     let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
     if name.is_empty() || name.len() > 100 || name.starts_with('.') || !name.chars().all(allowed) {
-        return Err(format!(
-            "{name:?} is not a sweep name: 1 to 100 of the characters A-Z a-z 0-9 . _ -, not \
-             starting with a dot"
-        ));
+        return Err(ValueError::Name(name.to_string()));
     }
     Ok(())
 }
 
 /// A job timeout in seconds, checked: finite, > 0, at most [`MAX_JOB_TIMEOUT`].
-pub fn job_timeout(x: f64) -> Result<f64, String> {
+pub fn job_timeout(x: f64) -> Result<f64, ValueError> {
     if x.is_finite() && x > 0.0 && x <= MAX_JOB_TIMEOUT {
         Ok(x)
     } else {
-        Err(format!(
-            "{x} is not a number of seconds in (0, {MAX_JOB_TIMEOUT}] (30 days)"
-        ))
+        Err(ValueError::Timeout {
+            value: x,
+            max: MAX_JOB_TIMEOUT,
+        })
     }
 }
 
-/// A number (integer or float) from a TOML value.
-pub(crate) fn number(v: &Value) -> Option<f64> {
-    match v {
-        Value::Integer(i) => Some(*i as f64),
-        Value::Float(f) => Some(*f),
-        _ => None,
-    }
-}
-
+/// Errors of one sweep file, each naming the file.
 struct Ctx<'a> {
     file: &'a str,
 }
@@ -161,39 +137,83 @@ impl Ctx<'_> {
         SweepError::new(self.file, key, problem)
     }
 
-    fn unknown_keys(&self, table: &Table, prefix: &str, known: &[&str]) -> Result<(), SweepError> {
-        for key in table.keys() {
-            if !known.contains(&key.as_str()) {
-                return Err(self.err(
-                    format!("{prefix}{key}"),
-                    format!("unknown key (expected one of: {})", known.join(", ")),
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    fn table<'t>(&self, top: &'t Table, key: &str) -> Result<Option<&'t Table>, SweepError> {
-        match top.get(key) {
-            None => Ok(None),
-            Some(Value::Table(t)) => Ok(Some(t)),
-            Some(_) => Err(self.err(key, "must be a table")),
+    /// A whole number in `min..=max`.
+    fn whole(&self, v: Whole, key: &str, min: i64, max: u64) -> Result<u64, SweepError> {
+        match v.0 {
+            n if n < min => Err(self.err(key, format!("{n} must be at least {min}"))),
+            n if n as u64 > max => Err(self.err(key, format!("{n} is more than {max}"))),
+            n => Ok(n as u64),
         }
     }
 
-    fn uint(&self, v: &Value, key: &str, min: i64) -> Result<u64, SweepError> {
-        match v {
-            Value::Integer(i) if *i >= min => Ok(*i as u64),
-            Value::Integer(i) => Err(self.err(key, format!("{i} must be at least {min}"))),
-            _ => Err(self.err(key, "must be a whole number")),
+    /// A required value.
+    fn given<T>(&self, v: Option<T>, key: &str) -> Result<T, SweepError> {
+        v.ok_or_else(|| self.err(key, "missing"))
+    }
+}
+
+/// `[protocol]` over the defaults; a single lattice given alone sets the pair lattice to twice
+/// its width. Durations and intervals are checked with the model (`Protocol::validate`).
+fn protocol(p: ProtocolFile, cx: &Ctx) -> Result<Protocol, SweepError> {
+    let mut out = Protocol::default();
+    let sides = |pair: [Whole; 2], key: &str| -> Result<[usize; 2], SweepError> {
+        Ok([
+            cx.whole(pair[0], key, 2, MAX_SITES)? as usize,
+            cx.whole(pair[1], key, 2, MAX_SITES)? as usize,
+        ])
+    };
+    if let Some(single) = p.single_lattice {
+        out.single_lattice = sides(single, "protocol.single_lattice")?;
+        out.pair_lattice = [2 * out.single_lattice[0], out.single_lattice[1]];
+    }
+    if let Some(pair) = p.pair_lattice {
+        out.pair_lattice = sides(pair, "protocol.pair_lattice")?;
+    }
+    let set = |v: Option<sweep_file::Real>, slot: &mut f64| {
+        if let Some(x) = v {
+            *slot = x.0;
+        }
+    };
+    set(p.relax_time, &mut out.relax_time);
+    set(p.free_time, &mut out.free_time);
+    set(p.collide_time, &mut out.collide_time);
+    set(p.record_interval, &mut out.record_interval);
+    set(p.check_interval, &mut out.check_interval);
+    set(p.patch_bound, &mut out.patch.bound);
+    out.stop_early = p.stop_early.unwrap_or(out.stop_early);
+    out.precision = p.precision.unwrap_or(out.precision);
+    Ok(out)
+}
+
+/// Classifier settings: every one >= 0, every window > 0 (a zero window would make every
+/// velocity 0 and every collision undetermined). The pattern names every field, so a setting
+/// added to the solver cannot go unchecked.
+fn check_classifier(c: &ClassifierSettings, cx: &Ctx) -> Result<(), SweepError> {
+    let ClassifierSettings {
+        contact_overlap,
+        speed_fraction,
+        min_speed,
+        velocity_window,
+        sustain_window,
+        walk_past_margin,
+    } = *c;
+    for (key, x) in [
+        ("contact_overlap", contact_overlap),
+        ("speed_fraction", speed_fraction),
+        ("min_speed", min_speed),
+        ("velocity_window", velocity_window),
+        ("sustain_window", sustain_window),
+        ("walk_past_margin", walk_past_margin),
+    ] {
+        let full = format!("classifier.{key}");
+        if x < 0.0 {
+            return Err(cx.err(full, format!("{x} must be >= 0")));
+        }
+        if x == 0.0 && key.ends_with("_window") {
+            return Err(cx.err(full, "must be > 0 (tau0)"));
         }
     }
-
-    fn num(&self, v: &Value, key: &str) -> Result<f64, SweepError> {
-        number(v)
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| self.err(key, "must be a number"))
-    }
+    Ok(())
 }
 
 impl Sweep {
@@ -205,247 +225,95 @@ impl Sweep {
         Sweep::parse(&text, &file)
     }
 
-    /// Parse and validate sweep-file text; `file` names it in errors.
+    /// Parse and validate sweep-file text; `file` names it in errors. Serde gives the file's
+    /// shape ([`SweepFile`]); every range, limit and the model's validity is checked here.
     pub fn parse(text: &str, file: &str) -> Result<Sweep, SweepError> {
         let cx = Ctx { file };
-        let top: Table = text.parse().map_err(|e: toml::de::Error| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
-                .map_or("syntax".to_string(), |l| format!("line {l}"));
-            cx.err(
-                line,
-                e.message()
-                    .lines()
-                    .next()
-                    .unwrap_or("malformed TOML")
-                    .to_string(),
-            )
-        })?;
-        cx.unknown_keys(&top, "", TOP_KEYS)?;
+        let f = sweep_file::read(text, file)?;
 
-        let name = match top.get("name") {
-            Some(Value::String(s)) => s.clone(),
-            Some(_) => return Err(cx.err("name", "must be a string")),
-            None => return Err(cx.err("name", "missing")),
-        };
-        check_name(&name).map_err(|p| cx.err("name", p))?;
-        let seed = match top.get("seed") {
-            Some(v) => cx.uint(v, "seed", 0)?,
-            None => return Err(cx.err("seed", "missing")),
-        };
-        let bounded = |key: &str, default: u64| -> Result<u64, SweepError> {
-            let n = top.get(key).map_or(Ok(default), |v| cx.uint(v, key, 1))?;
-            if n > MAX_REPLICATES {
-                return Err(cx.err(key, format!("{n} is more than {MAX_REPLICATES}")));
-            }
-            Ok(n)
-        };
-        let replicates = bounded("replicates", 96)?;
-        let preps_per_point = bounded("preps_per_point", 1)?;
+        let name = cx.given(f.name, "name")?;
+        check_name(&name).map_err(|p| cx.err("name", p.to_string()))?;
+        let seed = cx.whole(cx.given(f.seed, "seed")?, "seed", 0, u64::MAX)?;
+        let replicates = f
+            .replicates
+            .map_or(Ok(96), |v| cx.whole(v, "replicates", 1, MAX_REPLICATES))?;
+        let preps_per_point = f
+            .preps_per_point
+            .map_or(Ok(1), |v| cx.whole(v, "preps_per_point", 1, MAX_REPLICATES))?;
         if preps_per_point > replicates {
             return Err(cx.err(
                 "preps_per_point",
                 format!("{preps_per_point} exceeds replicates = {replicates}"),
             ));
         }
-        let mut params = Params::default();
-        if let Some(g) = top.get("geometry") {
-            params.geometry = match g.as_str().map(str::parse::<Geometry>) {
-                Some(Ok(geo)) => geo,
-                _ => return Err(cx.err("geometry", "must be \"one\" or \"two\"")),
-            };
-        }
 
-        let grid_table = cx
-            .table(&top, "grid")?
-            .ok_or_else(|| cx.err("grid", "missing"))?;
-        cx.unknown_keys(grid_table, "grid.", GRID_KEYS)?;
-        let axis = |key: &str| -> Result<Axis, SweepError> {
+        let mut params = match f.params {
+            Some(t) => sweep_file::params(t, file)?,
+            None => Params::default(),
+        };
+        params.geometry = f.geometry.unwrap_or(params.geometry);
+
+        let g = cx.given(f.grid, "grid")?;
+        let axis = |spec: Option<AxisFile>, key: &str| -> Result<Vec<f64>, SweepError> {
             let full = format!("grid.{key}");
-            let v = grid_table
-                .get(key)
-                .ok_or_else(|| cx.err(&full, "missing"))?;
-            parse_axis(v).map_err(|p| cx.err(&full, p))
+            let spec = cx.given(spec, &full)?;
+            grid::axis(&spec)
+                .map(|a| a.values)
+                .map_err(|p| cx.err(&full, p.to_string()))
         };
-        let spacing: Vec<u32> = {
-            let values = axis("L")?.values;
-            let mut out = Vec::new();
-            for l in values {
-                if l > MAX_SITES as f64 {
-                    return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
-                }
-                if l.fract() != 0.0 || l < 0.0 {
-                    return Err(cx.err(
-                        "grid.L",
-                        format!("{l} is not a whole number of lattice sites"),
-                    ));
-                }
-                if params.geometry == Geometry::Two && (l as u64) % 2 != 0 {
-                    return Err(cx.err(
-                        "grid.L",
-                        format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
-                    ));
-                }
-                out.push(l as u32);
+        let mut spacing = Vec::new();
+        for l in axis(g.L, "L")? {
+            if l > MAX_SITES as f64 {
+                return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
             }
-            out
-        };
+            if l.fract() != 0.0 || l < 0.0 {
+                return Err(cx.err(
+                    "grid.L",
+                    format!("{l} is not a whole number of lattice sites"),
+                ));
+            }
+            if params.geometry == Geometry::Two && !(l as u64).is_multiple_of(2) {
+                return Err(cx.err(
+                    "grid.L",
+                    format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
+                ));
+            }
+            spacing.push(l as u32);
+        }
         let grid = Grid {
-            alpha: axis("alpha")?.values,
-            beta: axis("beta")?.values,
+            alpha: axis(g.alpha, "alpha")?,
+            beta: axis(g.beta, "beta")?,
             L: spacing,
-            sigma: axis("sigma")?.values,
+            sigma: axis(g.sigma, "sigma")?,
         };
 
-        if let Some(t) = cx.table(&top, "params")? {
-            for (key, v) in t {
-                let full = format!("params.{key}");
-                if GRID_KEYS.contains(&key.as_str()) {
-                    return Err(cx.err(full, "is a grid axis: set it in [grid]"));
-                }
-                if key == "geometry" {
-                    return Err(cx.err(full, "set geometry at the top level"));
-                }
-                let x = cx.num(v, &full)?;
-                params.set(key, x).map_err(|p| cx.err(&full, p))?;
-            }
-        }
+        let protocol = match f.protocol {
+            Some(p) => protocol(p, &cx)?,
+            None => Protocol::default(),
+        };
+        let classifier = f.classifier.unwrap_or_default();
+        check_classifier(&classifier, &cx)?;
 
-        let mut protocol = Protocol::default();
-        if let Some(t) = cx.table(&top, "protocol")? {
-            cx.unknown_keys(
-                t,
-                "protocol.",
-                &[
-                    "single_lattice",
-                    "pair_lattice",
-                    "relax_time",
-                    "free_time",
-                    "collide_time",
-                    "record_interval",
-                    "check_interval",
-                    "stop_early",
-                    "patch_bound",
-                    "precision",
-                ],
-            )?;
-            for (key, v) in t {
-                let full = format!("protocol.{key}");
-                match key.as_str() {
-                    "single_lattice" | "pair_lattice" => {
-                        let side = |x: &Value| -> Result<usize, SweepError> {
-                            let n = cx.uint(x, &full, 2)?;
-                            if n > MAX_SITES {
-                                return Err(
-                                    cx.err(&full, format!("{n} is more than {MAX_SITES} sites"))
-                                );
-                            }
-                            Ok(n as usize)
-                        };
-                        let pair = match v.as_array().map(|a| a.as_slice()) {
-                            Some([a, b]) => [side(a)?, side(b)?],
-                            _ => return Err(cx.err(full, "must be [NX, NY]")),
-                        };
-                        if key == "single_lattice" {
-                            protocol.single_lattice = pair;
-                            if t.get("pair_lattice").is_none() {
-                                protocol.pair_lattice = [2 * pair[0], pair[1]];
-                            }
-                        } else {
-                            protocol.pair_lattice = pair;
-                        }
-                    }
-                    "stop_early" => {
-                        protocol.stop_early = v
-                            .as_bool()
-                            .ok_or_else(|| cx.err(&full, "must be true or false"))?
-                    }
-                    "precision" => {
-                        protocol.precision = v
-                            .as_str()
-                            .ok_or_else(|| cx.err(&full, "must be \"f64\" or \"f32\""))?
-                            .parse()
-                            .map_err(|e: String| cx.err(&full, &e))?
-                    }
-                    _ => {
-                        let x = cx.num(v, &full)?;
-                        // Every key named: one added to the list above but not here is an
-                        // error, never a write to some other field.
-                        *match key.as_str() {
-                            "relax_time" => &mut protocol.relax_time,
-                            "free_time" => &mut protocol.free_time,
-                            "collide_time" => &mut protocol.collide_time,
-                            "record_interval" => &mut protocol.record_interval,
-                            "patch_bound" => &mut protocol.patch.bound,
-                            "check_interval" => &mut protocol.check_interval,
-                            other => return Err(cx.err(full, format!("{other} has no field"))),
-                        } = x;
-                    }
-                }
-            }
-        }
-
-        let mut classifier = ClassifierSettings::default();
-        if let Some(t) = cx.table(&top, "classifier")? {
-            let known = [
-                "contact_overlap",
-                "speed_fraction",
-                "min_speed",
-                "velocity_window",
-                "sustain_window",
-                "walk_past_margin",
-            ];
-            cx.unknown_keys(t, "classifier.", &known)?;
-            for (key, v) in t {
-                let full = format!("classifier.{key}");
-                let x = cx.num(v, &full)?;
-                if x < 0.0 {
-                    return Err(cx.err(full, format!("{x} must be >= 0")));
-                }
-                // A zero window would make every velocity 0 and every collision undetermined.
-                if x == 0.0 && key.ends_with("_window") {
-                    return Err(cx.err(full, "must be > 0 (tau0)"));
-                }
-                *match key.as_str() {
-                    "contact_overlap" => &mut classifier.contact_overlap,
-                    "speed_fraction" => &mut classifier.speed_fraction,
-                    "min_speed" => &mut classifier.min_speed,
-                    "velocity_window" => &mut classifier.velocity_window,
-                    "sustain_window" => &mut classifier.sustain_window,
-                    "walk_past_margin" => &mut classifier.walk_past_margin,
-                    other => return Err(cx.err(full, format!("{other} has no field"))),
-                } = x;
-            }
-        }
-
-        let adaptive = match cx.table(&top, "adaptive")? {
+        let adaptive = match f.adaptive {
             None => None,
-            Some(t) => {
-                cx.unknown_keys(
-                    t,
-                    "adaptive.",
-                    &["batch", "min_replicates", "max_replicates", "error"],
-                )?;
-                let get = |key: &str, default: u64| -> Result<u32, SweepError> {
+            Some(a) => {
+                let get = |v: Option<Whole>, key: &str, default: u64| -> Result<u32, SweepError> {
                     let full = format!("adaptive.{key}");
-                    let v = t.get(key).map_or(Ok(default), |v| cx.uint(v, &full, 1))?;
-                    u32::try_from(v).map_err(|_| cx.err(full, format!("{v} is too large")))
+                    v.map_or(Ok(default), |v| cx.whole(v, &full, 1, MAX_REPLICATES))
+                        .map(|n| n as u32)
                 };
-                let max = get("max_replicates", replicates)?;
-                if top.get("replicates").is_some() && max as u64 != replicates {
+                let max = get(a.max_replicates, "max_replicates", replicates)?;
+                if f.replicates.is_some() && max as u64 != replicates {
                     return Err(cx.err(
                         "adaptive.max_replicates",
                         format!("{max} differs from replicates = {replicates}: give one of them"),
                     ));
                 }
                 let rule = AdaptiveRule {
-                    batch: get("batch", 8)?,
-                    min_replicates: get("min_replicates", 8.min(max as u64))?,
+                    batch: get(a.batch, "batch", 8)?,
+                    min_replicates: get(a.min_replicates, "min_replicates", 8.min(max as u64))?,
                     max_replicates: max,
-                    error: t
-                        .get("error")
-                        .map_or(Ok(0.05), |v| cx.num(v, "adaptive.error"))?,
+                    error: a.error.map_or(0.05, |e| e.0),
                 };
                 rule.validate()
                     .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
@@ -455,22 +323,13 @@ impl Sweep {
         let replicates = adaptive.map_or(replicates, |a| a.max_replicates as u64);
 
         let mut run = RunSettings::default();
-        if let Some(t) = cx.table(&top, "run")? {
-            cx.unknown_keys(t, "run.", &["job_timeout", "max_attempts"])?;
-            if let Some(v) = t.get("job_timeout") {
-                run.job_timeout = number(v)
-                    .ok_or_else(|| cx.err("run.job_timeout", "must be a number"))
-                    .and_then(|x| job_timeout(x).map_err(|p| cx.err("run.job_timeout", p)))?;
+        if let Some(r) = f.run {
+            if let Some(x) = r.job_timeout {
+                run.job_timeout =
+                    job_timeout(x.0).map_err(|p| cx.err("run.job_timeout", p.to_string()))?;
             }
-            if let Some(v) = t.get("max_attempts") {
-                let n = cx.uint(v, "run.max_attempts", 1)?;
-                if n > MAX_ATTEMPTS {
-                    return Err(cx.err(
-                        "run.max_attempts",
-                        format!("{n} is more than {MAX_ATTEMPTS}"),
-                    ));
-                }
-                run.max_attempts = n as u32;
+            if let Some(n) = r.max_attempts {
+                run.max_attempts = cx.whole(n, "run.max_attempts", 1, MAX_ATTEMPTS)? as u32;
             }
         }
 

@@ -7,6 +7,8 @@ use cellsweep_solver::{Config, FieldSummary, Prep, TrajectoryResult, Verdict};
 use cellsweep_store::{bytes_to_f64s, f64s_to_bytes, PrepRecord};
 use serde::{Deserialize, Serialize};
 
+use crate::error::PayloadError;
+
 /// A prepped cell in transit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PrepPayload {
@@ -43,7 +45,7 @@ impl PrepPayload {
     }
 
     /// The stored form of this prep (computed in `wall_s` seconds).
-    pub fn to_record(&self, wall_s: f64) -> Result<PrepRecord, String> {
+    pub fn to_record(&self, wall_s: f64) -> Result<PrepRecord, PayloadError> {
         let prep = self.to_prep()?;
         Ok(PrepRecord {
             verdict: self.verdict.as_str().to_string(),
@@ -64,17 +66,20 @@ impl PrepPayload {
     }
 
     /// A prep as the store keeps it, back in transit form.
-    pub fn from_record(rec: PrepRecord, seed: u64) -> Result<Self, String> {
-        let summary: serde_json::Value =
-            serde_json::from_str(&rec.summary).map_err(|e| e.to_string())?;
-        let field = |k: &str| {
-            serde_json::from_value::<FieldSummary>(summary[k].clone())
-                .map_err(|e| format!("prep summary {k}: {e}"))
+    pub fn from_record(rec: PrepRecord, seed: u64) -> Result<Self, PayloadError> {
+        let summary: serde_json::Value = serde_json::from_str(&rec.summary)?;
+        let field = |key: &'static str| {
+            serde_json::from_value::<FieldSummary>(summary[key].clone())
+                .map_err(|source| PayloadError::SummaryField { key, source })
         };
         let prep = Prep {
             seed,
-            verdict: serde_json::from_value(serde_json::json!(rec.verdict))
-                .map_err(|e| e.to_string())?,
+            verdict: serde_json::from_value(serde_json::json!(rec.verdict)).map_err(|source| {
+                PayloadError::SummaryField {
+                    key: "verdict",
+                    source,
+                }
+            })?,
             verdict_time: rec.verdict_time,
             verdict_reason: summary["verdict_reason"].as_str().map(String::from),
             free_speed: rec.free_speed,
@@ -87,20 +92,16 @@ impl PrepPayload {
         Ok(PrepPayload::from_prep(&prep))
     }
 
-    pub fn to_prep(&self) -> Result<Prep, String> {
-        let decode = |s: &str| {
-            B64.decode(s)
-                .map(|b| bytes_to_f64s(&b))
-                .map_err(|e| format!("bad field encoding: {e}"))
-        };
+    pub fn to_prep(&self) -> Result<Prep, PayloadError> {
+        let decode = |s: &str| B64.decode(s).map(|b| bytes_to_f64s(&b));
         let (phi, p) = (decode(&self.phi)?, decode(&self.p)?);
         let n = self.lattice[0] * self.lattice[1];
         if phi.len() != n || p.len() != n {
-            return Err(format!(
-                "prep fields have {} and {} values, lattice needs {n}",
-                phi.len(),
-                p.len()
-            ));
+            return Err(PayloadError::Size {
+                phi: phi.len(),
+                p: p.len(),
+                n,
+            });
         }
         Ok(Prep {
             seed: self.seed,

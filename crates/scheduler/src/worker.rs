@@ -123,7 +123,12 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
             if let Some(payload) = prep {
                 match payload.to_prep() {
                     Ok(p) => remember(cache, prep_id, p),
-                    Err(error) => return Response::Failed { task, error },
+                    Err(e) => {
+                        return Response::Failed {
+                            task,
+                            error: e.to_string(),
+                        }
+                    }
                 }
             }
             let Some((_, prep)) = cache.iter().find(|(k, _)| *k == prep_id) else {

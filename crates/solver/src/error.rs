@@ -68,6 +68,21 @@ pub enum ParamError {
     },
 }
 
+/// A name or value given for a parameter that is not one (`Params::set`, `FromStr`).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NameError {
+    #[error("unknown parameter {given:?} (known: {known})")]
+    Parameter { given: String, known: String },
+    #[error("unknown geometry {0:?} (expected \"one\" or \"two\")")]
+    Geometry(String),
+    #[error("geometry = {0} must be 1 or 2")]
+    GeometryNumber(f64),
+    #[error("precision {0:?} must be \"f64\" or \"f32\"")]
+    Precision(String),
+    #[error("L = {0} must be a non-negative integer")]
+    Spacing(f64),
+}
+
 /// Failures while running a trajectory.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SolverError {

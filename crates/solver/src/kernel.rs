@@ -144,7 +144,7 @@ impl Partial {
         for sp in spans {
             self.pending = (self.pending.0.min(sp.lo), self.pending.1.max(sp.hi));
         }
-        if (r + 1) % T::FLUSH_ROWS == 0 || r + 1 == count {
+        if (r + 1).is_multiple_of(T::FLUSH_ROWS) || r + 1 == count {
             let (lo, hi) = self.pending;
             if lo < hi {
                 let cols = self.columns[lo..hi].iter_mut();
@@ -449,7 +449,11 @@ fn step_span<T: Real, const FIBER: bool, const PAIR: bool, const ADH: bool, cons
     const { assert!(T::LANES <= MAX_EDGE) };
     let lanes = T::LANES;
     // Two calls with a constant `edge` each, so that the seam loops have known lengths.
-    if n % lanes == 0 && n >= 4 * lanes && lo % lanes == 0 && hi % lanes == 0 {
+    if n.is_multiple_of(lanes)
+        && n >= 4 * lanes
+        && lo.is_multiple_of(lanes)
+        && hi.is_multiple_of(lanes)
+    {
         seams_and_interior::<T, FIBER, PAIR, ADH, POL>(
             k, c, up, dn, pj, p, out, acc, lo, hi, lanes,
         );

@@ -39,7 +39,7 @@ pub mod trajectory;
 pub use cell::Cell;
 pub use classifier::{Classifier, ClassifierSettings, Decision, Outcome};
 pub use collision::{collide, place_pair, Collision, Sample};
-pub use error::{ParamError, SolverError};
+pub use error::{NameError, ParamError, SolverError};
 pub use fibers::{Fiber, Fibers};
 pub use kernel::Sums;
 pub use lattice::Lattice;

@@ -28,7 +28,7 @@ impl Noise {
     /// The noise of every cell at step `step` (counted from the start of the stage): fresh draws
     /// when `step` is a multiple of t_sample/dt, the held values otherwise.
     pub fn at(&mut self, step: u64) -> &[[f64; 2]] {
-        if step % self.every == 0 {
+        if step.is_multiple_of(self.every) {
             for v in self.current.iter_mut() {
                 let x: f64 = StandardNormal.sample(&mut self.rng);
                 let y: f64 = StandardNormal.sample(&mut self.rng);

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-use crate::error::ParamError;
+use crate::error::{NameError, ParamError};
 
 /// One fiber (spindle cells) or two parallel fibers at spacing `L`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -14,14 +14,12 @@ pub enum Geometry {
 }
 
 impl std::str::FromStr for Geometry {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = NameError;
+    fn from_str(s: &str) -> Result<Self, NameError> {
         match s {
             "one" | "1" => Ok(Geometry::One),
             "two" | "2" => Ok(Geometry::Two),
-            _ => Err(format!(
-                "unknown geometry {s:?} (expected \"one\" or \"two\")"
-            )),
+            _ => Err(NameError::Geometry(s.to_string())),
         }
     }
 }
@@ -150,7 +148,7 @@ impl Params {
     }
 
     /// Set one parameter by its SPEC name from a number (geometry takes 1 or 2).
-    pub fn set(&mut self, name: &str, value: f64) -> Result<(), String> {
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), NameError> {
         let slot = match name {
             "alpha" => &mut self.alpha,
             "beta" => &mut self.beta,
@@ -171,7 +169,7 @@ impl Params {
             "phi_min" => &mut self.phi_min,
             "L" => {
                 if value.fract() != 0.0 || !(0.0..=u32::MAX as f64).contains(&value) {
-                    return Err(format!("L = {value} must be a non-negative integer"));
+                    return Err(NameError::Spacing(value));
                 }
                 self.L = value as u32;
                 return Ok(());
@@ -180,15 +178,15 @@ impl Params {
                 self.geometry = match value as i64 {
                     1 => Geometry::One,
                     2 => Geometry::Two,
-                    _ => return Err(format!("geometry = {value} must be 1 or 2")),
+                    _ => return Err(NameError::GeometryNumber(value)),
                 };
                 return Ok(());
             }
             _ => {
-                return Err(format!(
-                    "unknown parameter {name:?} (known: {})",
-                    PARAM_NAMES.join(", ")
-                ))
+                return Err(NameError::Parameter {
+                    given: name.to_string(),
+                    known: PARAM_NAMES.join(", "),
+                })
             }
         };
         *slot = value;
@@ -260,7 +258,7 @@ impl Params {
             });
         }
         if self.geometry == Geometry::Two {
-            if self.L % 2 != 0 {
+            if !self.L.is_multiple_of(2) {
                 return Err(ParamError::OddSpacing(self.L));
             }
             if self.L < 4 {

@@ -188,7 +188,7 @@ impl Window {
         let len = nx - best_len + 2 * pad;
         // Whole blocks of ALIGN columns where the row allows: the kernel's vector loops then
         // have no scalar remainder at the spans' ends.
-        let align = if nx % ALIGN == 0 { ALIGN } else { 1 };
+        let align = if nx.is_multiple_of(ALIGN) { ALIGN } else { 1 };
         let aligned_start = start / align * align;
         let end = (start - aligned_start + len).div_ceil(align) * align;
         if end >= nx {
@@ -282,8 +282,8 @@ impl Patches {
     ) {
         self.steps += 1;
         self.site_steps += self.sites;
-        let mut refit = step % self.settings.refit_every == 0;
-        if step % self.settings.check_every == 0 {
+        let mut refit = step.is_multiple_of(self.settings.refit_every);
+        if step.is_multiple_of(self.settings.check_every) {
             for (k, cell) in cells.iter().enumerate() {
                 if self.leaks(k, &cell.phi, &cell.p) {
                     self.stats.edge_hits += 1;

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::ParamError;
+use crate::error::{NameError, ParamError};
 use crate::params::Params;
 use crate::patch::PatchSettings;
 
@@ -54,12 +54,12 @@ impl Precision {
 }
 
 impl std::str::FromStr for Precision {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = NameError;
+    fn from_str(s: &str) -> Result<Self, NameError> {
         match s {
             "f64" => Ok(Precision::F64),
             "f32" => Ok(Precision::F32),
-            _ => Err(format!("precision {s:?} must be \"f64\" or \"f32\"")),
+            _ => Err(NameError::Precision(s.to_string())),
         }
     }
 }

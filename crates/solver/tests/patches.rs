@@ -379,8 +379,8 @@ fn per_row_spans_sum_every_row_they_compute() {
             10 | 11 | 23 => None,
             9 | 22 => Some((24, 40)),
             _ => Some((
-                if j % 2 == 0 { 0 } else { 8 },
-                if j % 3 == 0 { 64 } else { 48 },
+                if j.is_multiple_of(2) { 0 } else { 8 },
+                if j.is_multiple_of(3) { 64 } else { 48 },
             )),
         }
     };

@@ -206,6 +206,7 @@ fn parameters_are_settable_by_their_spec_names() {
     assert!(p
         .set("gamma", 1.0)
         .unwrap_err()
+        .to_string()
         .contains("unknown parameter"));
     assert!(p.set("L", 70.5).is_err());
     // Serialized with the SPEC's symbols.

@@ -84,14 +84,24 @@ pub struct NoFit {
     pub columns: Vec<Column>,
 }
 
+/// Why a column has no beta*.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum NoCrossing {
+    #[error("{0} usable point(s); a crossing needs two")]
+    TooFew(usize),
+    #[error("training at least as frequent as walk-past at every beta")]
+    TrainEverywhere,
+    #[error("walk-past at least as frequent as training at every beta")]
+    WalkEverywhere,
+    #[error("n_walk - n_train never rises through zero")]
+    NeverRises,
+}
+
 /// beta* of one column (points sorted by beta): the first sign change of n_walk - n_train
 /// from training to walk-past, interpolated linearly.
-fn crossing(points: &[(f64, i64)]) -> Result<f64, String> {
+fn crossing(points: &[(f64, i64)]) -> Result<f64, NoCrossing> {
     if points.len() < 2 {
-        return Err(format!(
-            "{} usable point(s); a crossing needs two",
-            points.len()
-        ));
+        return Err(NoCrossing::TooFew(points.len()));
     }
     for w in points.windows(2) {
         let ((b0, d0), (b1, d1)) = (w[0], w[1]);
@@ -101,11 +111,11 @@ fn crossing(points: &[(f64, i64)]) -> Result<f64, String> {
         }
     }
     if points.iter().all(|&(_, d)| d <= 0) {
-        Err("training at least as frequent as walk-past at every beta".into())
+        Err(NoCrossing::TrainEverywhere)
     } else if points.iter().all(|&(_, d)| d >= 0) {
-        Err("walk-past at least as frequent as training at every beta".into())
+        Err(NoCrossing::WalkEverywhere)
     } else {
-        Err("n_walk - n_train never rises through zero".into())
+        Err(NoCrossing::NeverRises)
     }
 }
 
@@ -132,7 +142,7 @@ fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> V
             pts.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
             let (beta_star, skipped) = match crossing(&pts) {
                 Ok(b) => (Some(b), None),
-                Err(why) => (None, Some(why)),
+                Err(why) => (None, Some(why.to_string())),
             };
             Column {
                 L: l,

@@ -48,10 +48,21 @@ pub enum Command {
     /// Measure the solver on this machine, one core: step rates, one whole trajectory, and the
     /// NumPy yardstick (scripts/numpy_yardstick.py) where Python and NumPy are available.
     Bench(BenchArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
+    Completions(CompletionsArgs),
+    /// Print the manual page (roff) to stdout: `cellsweep man > cellsweep.1`.
+    Man,
     /// Serve jobs on stdin/stdout (JSON lines), started by `run`; or, with --slurm, run one
     /// Slurm array task's slice of jobs.
     #[command(hide = true)]
     Worker(WorkerArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
 }
 
 /// The store to use.
@@ -211,8 +222,12 @@ pub struct CountsSource {
     pub sweep: Option<String>,
     /// Read counts from a CSV file instead of a store: columns alpha, beta, L, sigma, n_train,
     /// n_walk, n_reversal, n_undetermined, and optionally label (unstable / breakup).
-    #[arg(long, value_name = "FILE.csv")]
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "data")]
     pub counts: Option<std::path::PathBuf>,
+    /// Read the results of a `cellsweep export` file instead of a store (e.g.
+    /// data/paper/adaptive-L90-sigma5.csv): no store, no recomputation.
+    #[arg(long, value_name = "EXPORT.csv", conflicts_with_all = ["db", "sweep"])]
+    pub data: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

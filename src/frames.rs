@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use cellsweep_plot::frames::{render, Snapshot};
-use cellsweep_plot::Raster;
-use cellsweep_solver::{Cell, Fibers, Lattice, Monitor, Stage};
+use cellsweep_plot::frames::{figure, Snapshot};
+use cellsweep_plot::Image;
+use cellsweep_solver::{Cell, Decision, Fibers, Lattice, Monitor, Stage};
 
 use crate::progress::StageBars;
 
@@ -17,9 +17,11 @@ pub struct FrameRecorder {
     every: f64,
     next: f64,
     /// Half-size copies for the GIF.
-    pub gif_frames: Vec<Raster>,
+    pub gif_frames: Vec<Image>,
     pub written: Vec<PathBuf>,
     pub error: Option<anyhow::Error>,
+    /// The outcome once decided, shown on every later frame.
+    note: String,
 }
 
 impl FrameRecorder {
@@ -33,6 +35,7 @@ impl FrameRecorder {
             gif_frames: Vec::new(),
             written: Vec::new(),
             error: None,
+            note: String::new(),
         })
     }
 
@@ -44,7 +47,7 @@ impl FrameRecorder {
         }
         if !self.gif_frames.is_empty() {
             let path = self.dir.join("collision.gif");
-            let bytes = cellsweep_plot::gif(&self.gif_frames, 25).map_err(anyhow::Error::msg)?;
+            let bytes = cellsweep_plot::gif(&self.gif_frames, 25)?;
             std::fs::write(&path, bytes)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             self.written.push(path);
@@ -66,6 +69,20 @@ impl Monitor for FrameRecorder {
         true
     }
 
+    /// The movie goes on after the decision, so that it shows the outcome happen.
+    fn run_on(&self) -> f64 {
+        (2.0 * self.every).max(20.0)
+    }
+
+    fn decided(&mut self, d: &Decision) {
+        self.note = format!(
+            "outcome: {}, decided at t = {:.0} τ_0 ({:.0} min)",
+            d.outcome,
+            d.time,
+            d.time * cellsweep_plot::frames::TAU0_MIN
+        );
+    }
+
     fn wants_fields(&self, t: f64) -> bool {
         t + 1e-9 >= self.next
     }
@@ -79,15 +96,28 @@ impl Monitor for FrameRecorder {
             phi: [&cells[0].phi, &cells[1].phi],
             p: [&cells[0].p, &cells[1].p],
             fiber_rows: &rows,
-            caption: format!("t = {t:.0} tau0 after the start of the collision"),
+            time: t,
+            note: self.note.clone(),
         };
+        let fig = figure(&snap);
         let path = self.dir.join(format!("frame-{:05.0}.png", t));
-        if let Err(e) = std::fs::write(&path, render(&snap, 2).to_png()) {
-            self.error
-                .get_or_insert(anyhow::anyhow!("cannot write {}: {e}", path.display()));
+        let drawn = fig
+            .to_png(2.0)
+            .map_err(anyhow::Error::from)
+            .and_then(|png| {
+                std::fs::write(&path, png)
+                    .with_context(|| format!("cannot write {}", path.display()))
+            });
+        if let Err(e) = drawn {
+            self.error.get_or_insert(e);
             return;
         }
         self.written.push(path);
-        self.gif_frames.push(render(&snap, 1));
+        match fig.rasterize(1.0) {
+            Ok(image) => self.gif_frames.push(image),
+            Err(e) => {
+                self.error.get_or_insert(e.into());
+            }
+        }
     }
 }

@@ -119,6 +119,20 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
         assert_eq!(r[col("params")], "\"{\"\"R0\"\":24.0}\"");
     }
 
+    // Read straight from the export (no store), the table is the store's, standings included.
+    let from = |args: &[&str]| {
+        let out = cellsweep(args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let stored = from(&["table", "--db", db.to_str().unwrap(), "--format", "json"]);
+    let exported = from(&["table", "--data", csv.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(exported, stored);
+
     // Import into a new store: the sweep is registered from the file, its preps computed, and
     // every row checked; exporting that store gives the same file. Importing again adds nothing.
     let db2 = dir.join("imported.sqlite");

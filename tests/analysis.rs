@@ -191,7 +191,12 @@ fn plot_writes_svg_and_png_for_each_diagram() {
     assert!(speed.contains("no free speeds recorded"));
     assert!(out_dir.join("free-speed.png").exists());
     let svg = std::fs::read_to_string(out_dir.join("phase-L90-sigma5.svg")).unwrap();
-    assert!(svg.contains("paper beta_crit") && svg.contains("fit a="));
+    // The paper's line and the fit in the legend, beta_crit with a real subscript.
+    assert!(
+        svg.contains("paper’s β<tspan baseline-shift=\"sub\""),
+        "{svg}"
+    );
+    assert!(svg.contains(">crit</tspan>") && svg.contains("fit: a = "));
     let png = std::fs::read(out_dir.join("phase-L90-sigma5.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
 }

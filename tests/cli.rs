@@ -157,3 +157,30 @@ fn bad_parameters_get_one_clear_error_line() {
         "classifier setting",
     );
 }
+
+#[test]
+fn completions_and_the_man_page_come_from_the_command_line_definition() {
+    let out = cellsweep(&["completions", "bash"]);
+    assert!(out.status.success());
+    let script = String::from_utf8(out.stdout).unwrap();
+    // Every user command is completed, with its flags.
+    for word in [
+        "simulate",
+        "run",
+        "status",
+        "export",
+        "import",
+        "--dry-run",
+        "--retry-failed",
+    ] {
+        assert!(script.contains(word), "bash completion lacks {word}");
+    }
+    for shell in ["zsh", "fish"] {
+        assert!(cellsweep(&["completions", shell]).status.success());
+    }
+    let out = cellsweep(&["completions", "tcsh"]);
+    assert_eq!(out.status.code(), Some(1));
+    let man = String::from_utf8(cellsweep(&["man"]).stdout).unwrap();
+    assert!(man.contains(".TH cellsweep 1"));
+    assert!(man.contains("simulate") && man.contains("export"));
+}

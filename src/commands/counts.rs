@@ -5,7 +5,8 @@ use std::path::Path;
 use anyhow::{bail, Context};
 use cellsweep_scheduler::Ledger;
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::{Assessment, Counts, Label, Scales, Store};
+use cellsweep_store::adaptive::{assess, kinds, PointEnds};
+use cellsweep_store::{Assessment, Counts, End, Label, Scales, Store};
 
 use crate::cli::CountsSource;
 
@@ -19,6 +20,9 @@ pub struct Loaded {
 }
 
 pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
+    if let Some(path) = &src.data {
+        return from_export(path);
+    }
     match &src.counts {
         Some(path) => Ok(Loaded {
             name: path.display().to_string(),
@@ -79,6 +83,116 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
         name,
         counts,
         scales,
+        standings,
+    })
+}
+
+/// Counts of every point of an export file (`cellsweep export`), and, for an adaptive sweep,
+/// each point's standing under its rule, exactly as the store would give them.
+pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
+    let (sweep, rows) = super::export::read_export(path)?;
+    let mut ends: Vec<PointEnds> = sweep
+        .points()
+        .iter()
+        .map(|p| PointEnds {
+            alpha: p.alpha,
+            beta: p.beta,
+            L: p.L,
+            sigma: p.sigma,
+            ends: Vec::new(),
+        })
+        .collect();
+    let mut speeds: Vec<Option<f64>> = vec![None; ends.len()];
+    for r in &rows {
+        let at = (r.alpha, r.beta, r.L, r.sigma);
+        let Some(i) = ends
+            .iter()
+            .position(|p| (p.alpha, p.beta, p.L, p.sigma) == at)
+        else {
+            bail!(
+                "{}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
+                path.display(),
+                r.alpha,
+                r.beta,
+                r.L,
+                r.sigma,
+                sweep.name
+            );
+        };
+        let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
+            bail!(
+                "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?}",
+                path.display(),
+                r.replicate,
+                r.alpha,
+                r.beta,
+                r.verdict,
+                r.outcome
+            );
+        };
+        let e = &mut ends[i].ends;
+        let k = r.replicate as usize;
+        if k >= sweep.replicates as usize {
+            bail!(
+                "{}: replicate {k} is beyond the sweep's {} per point",
+                path.display(),
+                sweep.replicates
+            );
+        }
+        if e.len() <= k {
+            e.resize(k + 1, None);
+        }
+        if e[k].replace(end).is_some() {
+            bail!(
+                "{}: replicate {k} at alpha = {}, beta = {} appears twice",
+                path.display(),
+                r.alpha,
+                r.beta
+            );
+        }
+        speeds[i] = speeds[i].or(r.free_speed);
+    }
+    let counts = ends
+        .iter()
+        .zip(&speeds)
+        .map(|(p, speed)| {
+            let mut c = Counts {
+                alpha: p.alpha,
+                beta: p.beta,
+                L: p.L,
+                sigma: p.sigma,
+                n_train: 0,
+                n_walk: 0,
+                n_reversal: 0,
+                n_undetermined: 0,
+                n_unstable: 0,
+                n_breakup: 0,
+                verdict: None,
+                free_speed: *speed,
+            };
+            for end in p.ends.iter().flatten() {
+                *match end {
+                    End::Train => &mut c.n_train,
+                    End::WalkPast => &mut c.n_walk,
+                    End::Reversal => &mut c.n_reversal,
+                    End::Undetermined => &mut c.n_undetermined,
+                    End::Unstable => &mut c.n_unstable,
+                    End::Breakup => &mut c.n_breakup,
+                } += 1;
+            }
+            c
+        })
+        .collect();
+    let standings = sweep
+        .adaptive
+        .map(|rule| assess(&ends, &rule, kinds(sweep.preps_per_point)));
+    Ok(Loaded {
+        name: sweep.name.clone(),
+        counts,
+        scales: Scales {
+            R0: sweep.params.R0,
+            d: sweep.params.d,
+        },
         standings,
     })
 }

@@ -57,12 +57,11 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `cellsweep import`: register the file's sweep, compute the preps its rows need, check every
-/// row against the job it claims, and commit them all, or none if any is refused.
-pub fn import(args: ImportArgs) -> anyhow::Result<()> {
-    let file = args.file.display().to_string();
-    let text =
-        std::fs::read_to_string(&args.file).with_context(|| format!("cannot read {file}"))?;
+/// An export file read back: its sweep's definition (line 2, checked: name and every point's
+/// model) and its rows. Each problem names the file and the line or row.
+pub fn read_export(path: &std::path::Path) -> anyhow::Result<(Sweep, Vec<ExportRow>)> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
     let mut lines = text.lines();
     let head = lines.next().unwrap_or("");
     let expect = format!("# cellsweep export format {EXPORT_FORMAT};");
@@ -90,6 +89,14 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     for (i, r) in reader.deserialize().enumerate() {
         rows.push(r.map_err(|e| anyhow::anyhow!("{file}: row {}: {e}", i + 1))?);
     }
+    Ok((sweep, rows))
+}
+
+/// `cellsweep import`: register the file's sweep, compute the preps its rows need, check every
+/// row against the job it claims, and commit them all, or none if any is refused.
+pub fn import(args: ImportArgs) -> anyhow::Result<()> {
+    let file = args.file.display().to_string();
+    let (sweep, rows) = read_export(&args.file)?;
     // Register the sweep with every replicate the rows name (and at least its first round).
     let points = sweep.points();
     let mut targets = vec![sweep.initial_replicates(); points.len()];

@@ -30,6 +30,16 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Import(args) => export::import(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
+        Command::Completions(args) => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            clap_complete::generate(args.shell, &mut cmd, "cellsweep", &mut std::io::stdout());
+            Ok(0)
+        }
+        Command::Man => {
+            clap_mangen::Man::new(<Cli as clap::CommandFactory>::command())
+                .render(&mut std::io::stdout())?;
+            Ok(0)
+        }
         Command::Submit(args) => slurm::submit(args).map(|_| 0),
         Command::Collect(args) => slurm::collect(args).map(|_| 0),
         Command::Worker(args) => {

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
 use cellsweep_plot::{Color, Figure};
-use cellsweep_store::{fit::PAPER_A, fit::PAPER_B, fit_line, Counts, Label, Scales, Standing};
+use cellsweep_store::{
+    fit::PAPER_A, fit::PAPER_B, fit_line, Assessment, Counts, Label, Scales, Standing,
+};
 
 use super::counts::{self, Loaded};
 use super::table::diagrams;
@@ -49,7 +51,7 @@ fn write(fig: &Figure, dir: &Path, stem: &str, written: &mut Vec<PathBuf>) -> an
     std::fs::write(&svg, fig.to_svg())
         .with_context(|| format!("cannot write {}", svg.display()))?;
     let png = dir.join(format!("{stem}.png"));
-    std::fs::write(&png, fig.rasterize().to_png())
+    std::fs::write(&png, fig.to_png(2.0)?)
         .with_context(|| format!("cannot write {}", png.display()))?;
     written.extend([svg, png]);
     Ok(())
@@ -66,13 +68,15 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
             .iter()
             .filter(|c| c.L == l && c.sigma == sigma)
             .collect();
-        let open = |c: &Counts| {
-            loaded.standings.as_ref().is_some_and(|st| {
+        // The adaptive assessment of a point, if the sweep is adaptive.
+        let assessment = |c: &Counts| {
+            loaded.standings.as_ref().and_then(|st| {
                 loaded
                     .counts
                     .iter()
                     .zip(st)
-                    .any(|(k, a)| std::ptr::eq(k, c) && a.standing == Standing::Open)
+                    .find(|(k, _)| std::ptr::eq(*k, c))
+                    .map(|(_, a)| a)
             })
         };
         let points = pts
@@ -92,7 +96,8 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
                     mark: c.label().map(mark),
                     freq: [f(c.n_train), f(c.n_walk), f(c.n_reversal)],
                     n: c.total(),
-                    open: open(c),
+                    open: assessment(c).is_some_and(|a| a.standing == Standing::Open),
+                    detail: detail(c, assessment(c)),
                 }
             })
             .collect();
@@ -102,7 +107,7 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
             PAPER_B,
             l,
             sigma,
-            "paper beta_crit".into(),
+            "paper\u{2019}s β_{crit}".into(),
             Color::BLACK,
         )];
         if let Some(fit) = &fitted {
@@ -112,12 +117,16 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
                 fit.b,
                 l,
                 sigma,
-                format!("fit a={:.2} b={:.1}", fit.a, fit.b),
+                format!("fit: a = {:.2}, b = {:.1}", fit.a, fit.b),
                 Color::ORANGE,
             ));
         }
         let d = Diagram {
-            title: format!("{}: L = {l}, sigma = {sigma}", loaded.name),
+            title: format!(
+                "{}: L = {l} ({} µm), σ = {sigma}",
+                loaded.name,
+                l as f64 * cellsweep_plot::frames::SITE_UM
+            ),
             points,
             lines,
         };
@@ -162,9 +171,10 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
                 }
             }
             Series {
-                label: format!("L={l} alpha={alpha}"),
+                label: format!("L = {l}, α = {alpha}"),
                 color: palette[k % palette.len()],
                 points,
+                errors: Vec::new(),
             }
         })
         .collect();
@@ -186,4 +196,44 @@ pub fn run(args: PlotArgs) -> anyhow::Result<()> {
         println!("wrote {}", f.display());
     }
     Ok(())
+}
+
+/// A point's tooltip: where it is, its counts, its label, and its adaptive standing.
+fn detail(c: &Counts, a: Option<&Assessment>) -> String {
+    let mut out = format!(
+        "α = {}, β = {}, L = {}, σ = {}: n = {} (training {}, walk-past {}, reversal {}, \
+         undetermined {}",
+        c.alpha,
+        c.beta,
+        c.L,
+        c.sigma,
+        c.total(),
+        c.n_train,
+        c.n_walk,
+        c.n_reversal,
+        c.n_undetermined
+    );
+    if c.n_unstable + c.n_breakup > 0 {
+        out += &format!(", unstable {}, breakup {}", c.n_unstable, c.n_breakup);
+    }
+    out += ")";
+    if let Some(label) = c.label() {
+        out += &format!("; label {}", label.as_str());
+    }
+    if let Some(a) = a {
+        out += &format!("; adaptive: {}", a.standing.as_str());
+        if let Some(b) = &a.bounds {
+            out += &format!(
+                "; bounds at the stated error: p_train [{:.2}, {:.2}], p_walk [{:.2}, {:.2}], \
+                 p_walk - p_train [{:.2}, {:.2}]",
+                b.train[0],
+                b.train[1],
+                b.walk_past[0],
+                b.walk_past[1],
+                b.walk_minus_train[0],
+                b.walk_minus_train[1]
+            );
+        }
+    }
+    out
 }

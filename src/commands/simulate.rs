@@ -59,9 +59,13 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
                 run_trajectory(&config, seeds, &mut rec, args.parallel)
             })??;
             rec.finish()?;
+            let pngs = rec
+                .written
+                .iter()
+                .filter(|p| p.extension().is_some_and(|e| e == "png"));
             println!(
-                "wrote {} snapshots and an animation into {}",
-                rec.written.len(),
+                "wrote {} snapshots (PNG) and an animated GIF into {}",
+                pngs.count(),
                 dir.display()
             );
             out

@@ -2,6 +2,9 @@
 
 use std::fmt::Write as _;
 
+use base64::engine::general_purpose::STANDARD as B64;
+use base64::Engine;
+
 /// An RGB colour.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Color(pub u8, pub u8, pub u8);
@@ -84,6 +87,8 @@ pub enum Shape {
         fill: Option<Color>,
         stroke: Option<Color>,
     },
+    /// Text at (x, y) (the baseline), with `_{sub}` and `^{sup}` markup, turned `rotate`
+    /// degrees about (x, y) (-90: reading upwards).
     Text {
         x: f64,
         y: f64,
@@ -91,8 +96,12 @@ pub enum Shape {
         anchor: Anchor,
         color: Color,
         text: String,
+        rotate: f64,
     },
-    /// A block of pixels (row-major RGB), scaled to `w x h` at (x, y).
+    /// Shapes that belong together under a tooltip (`<title>` in the SVG: a point's counts).
+    Group { title: String, shapes: Vec<Shape> },
+    /// A block of pixels (row-major RGB, top row first), scaled to `w x h` at (x, y) without
+    /// smoothing (an embedded PNG in the SVG).
     Image {
         x: f64,
         y: f64,
@@ -116,6 +125,7 @@ fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 fn paint(fill: Option<Color>, stroke: Option<Color>) -> String {
@@ -147,6 +157,20 @@ impl Figure {
             anchor,
             color: Color::BLACK,
             text: text.into(),
+            rotate: 0.0,
+        });
+    }
+
+    /// Text reading upwards (an axis label on the left).
+    pub fn vtext(&mut self, x: f64, y: f64, size: f64, text: impl Into<String>) {
+        self.push(Shape::Text {
+            x,
+            y,
+            size,
+            anchor: Anchor::Middle,
+            color: Color::BLACK,
+            text: text.into(),
+            rotate: -90.0,
         });
     }
 
@@ -162,14 +186,15 @@ impl Figure {
         });
     }
 
-    /// The figure as an SVG document.
+    /// The figure as an SVG document (text in DejaVu Sans, which the PNG renderer embeds).
     pub fn to_svg(&self) -> String {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">",
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"{font}, sans-serif\">",
             w = self.width,
-            h = self.height
+            h = self.height,
+            font = crate::render::FONT_FAMILY,
         );
         let _ = writeln!(
             s,
@@ -177,57 +202,105 @@ impl Figure {
             self.width, self.height
         );
         for shape in &self.shapes {
-            let _ = match shape {
-                Shape::Rect { x, y, w, h, fill, stroke } => writeln!(
-                    s,
-                    "<rect x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" {}/>",
-                    paint(*fill, *stroke)
-                ),
-                Shape::Line { x1, y1, x2, y2, color, width, dash } => writeln!(
-                    s,
-                    "<line x1=\"{x1:.1}\" y1=\"{y1:.1}\" x2=\"{x2:.1}\" y2=\"{y2:.1}\" stroke=\"{}\" stroke-width=\"{width}\"{}/>",
-                    color.hex(),
-                    dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d} {d}\""))
-                ),
-                Shape::Circle { cx, cy, r, fill, stroke } => {
-                    writeln!(s, "<circle cx=\"{cx:.1}\" cy=\"{cy:.1}\" r=\"{r:.1}\" {}/>", paint(*fill, *stroke))
-                }
-                Shape::Polygon { points, fill, stroke } => {
-                    let pts: Vec<String> = points.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
-                    writeln!(s, "<polygon points=\"{}\" {} stroke-width=\"1.5\"/>", pts.join(" "), paint(*fill, *stroke))
-                }
-                Shape::Text { x, y, size, anchor, color, text } => writeln!(
-                    s,
-                    "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"{size}\" fill=\"{}\" text-anchor=\"{}\">{}</text>",
-                    color.hex(),
-                    match anchor {
-                        Anchor::Start => "start",
-                        Anchor::Middle => "middle",
-                        Anchor::End => "end",
-                    },
-                    esc(text)
-                ),
-                Shape::Image { x, y, w, h, cols, rows, rgb } => {
-                    // Each pixel as a rect: exact, and fine for the grids drawn here.
-                    let (cw, ch) = (w / *cols as f64, h / *rows as f64);
-                    let mut r = Ok(());
-                    for (k, c) in rgb.iter().enumerate() {
-                        let (i, j) = (k % cols, k / cols);
-                        r = writeln!(
-                            s,
-                            "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"{}\"/>",
-                            x + i as f64 * cw,
-                            y + j as f64 * ch,
-                            cw + 0.05,
-                            ch + 0.05,
-                            c.hex()
-                        );
-                    }
-                    r
-                }
-            };
+            write_shape(&mut s, shape);
         }
         s.push_str("</svg>\n");
         s
     }
+}
+
+/// Label text with `_{sub}` and `^{sup}` as SVG tspans, the rest escaped; `_x` and `^x` take
+/// one character.
+pub fn text_markup(text: &str, size: f64) -> String {
+    let mut out = String::new();
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        let shift = match c {
+            '_' => "sub",
+            '^' => "super",
+            _ => {
+                out.push_str(&esc(&c.to_string()));
+                continue;
+            }
+        };
+        let mut inner = String::new();
+        if chars.peek() == Some(&'{') {
+            chars.next();
+            for d in chars.by_ref() {
+                if d == '}' {
+                    break;
+                }
+                inner.push(d);
+            }
+        } else if let Some(d) = chars.next() {
+            inner.push(d);
+        }
+        let _ = write!(
+            out,
+            "<tspan baseline-shift=\"{shift}\" font-size=\"{:.1}\">{}</tspan>",
+            size * 0.72,
+            esc(&inner)
+        );
+    }
+    out
+}
+
+fn write_shape(s: &mut String, shape: &Shape) {
+    let _ = match shape {
+        Shape::Rect { x, y, w, h, fill, stroke } => writeln!(
+            s,
+            "<rect x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" {}/>",
+            paint(*fill, *stroke)
+        ),
+        Shape::Line { x1, y1, x2, y2, color, width, dash } => writeln!(
+            s,
+            "<line x1=\"{x1:.1}\" y1=\"{y1:.1}\" x2=\"{x2:.1}\" y2=\"{y2:.1}\" stroke=\"{}\" stroke-width=\"{width}\"{}/>",
+            color.hex(),
+            dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d} {d}\""))
+        ),
+        Shape::Circle { cx, cy, r, fill, stroke } => writeln!(
+            s,
+            "<circle cx=\"{cx:.1}\" cy=\"{cy:.1}\" r=\"{r:.1}\" {} stroke-width=\"1.5\"/>",
+            paint(*fill, *stroke)
+        ),
+        Shape::Polygon { points, fill, stroke } => {
+            let pts: Vec<String> = points.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+            writeln!(s, "<polygon points=\"{}\" {} stroke-width=\"1.5\"/>", pts.join(" "), paint(*fill, *stroke))
+        }
+        Shape::Text { x, y, size, anchor, color, text, rotate } => writeln!(
+            s,
+            "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"{size}\" fill=\"{}\" text-anchor=\"{}\"{}>{}</text>",
+            color.hex(),
+            match anchor {
+                Anchor::Start => "start",
+                Anchor::Middle => "middle",
+                Anchor::End => "end",
+            },
+            if *rotate != 0.0 {
+                format!(" transform=\"rotate({rotate} {x:.1} {y:.1})\"")
+            } else {
+                String::new()
+            },
+            text_markup(text, *size)
+        ),
+        Shape::Group { title, shapes } => {
+            let _ = writeln!(s, "<g><title>{}</title>", esc(title));
+            for inner in shapes {
+                write_shape(s, inner);
+            }
+            writeln!(s, "</g>")
+        }
+        Shape::Image { x, y, w, h, cols, rows, rgb } => {
+            let bytes: Vec<u8> = rgb.iter().flat_map(|c| [c.0, c.1, c.2]).collect();
+            match crate::render::encode_png(*cols as u32, *rows as u32, &bytes) {
+                Ok(png) => writeln!(
+                    s,
+                    "<image x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" preserveAspectRatio=\"none\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" href=\"data:image/png;base64,{}\"/>",
+                    B64.encode(png)
+                ),
+                // A block that cannot be encoded (0 pixels) draws nothing.
+                Err(_) => Ok(()),
+            }
+        }
+    };
 }

@@ -56,6 +56,8 @@ pub struct Point {
     pub n: u64,
     /// An adaptive point that takes more rounds (its mark may still change).
     pub open: bool,
+    /// The point's counts and intervals in words: the SVG's tooltip (`<title>`).
+    pub detail: String,
 }
 
 /// A line beta(alpha), drawn dashed.
@@ -194,13 +196,14 @@ fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str
         fill: None,
         stroke: Some(Color::BLACK),
     });
-    fig.text(p.x + p.w / 2.0, p.y - 24.0, 16.0, Anchor::Middle, title);
+    fig.text(p.x + p.w / 2.0, p.y - 12.0, 15.0, Anchor::Middle, title);
+    // A tick at every grid value; labels thinned to at most 6 across and 11 down.
     let every = alphas.len().div_ceil(6).max(1);
     for (k, a) in alphas.iter().enumerate() {
         let x = p.px(*a);
         fig.line(x, p.y + p.h, x, p.y + p.h + 5.0, Color::BLACK, 1.0);
         if k % every == 0 {
-            fig.text(x, p.y + p.h + 22.0, 8.0, Anchor::Middle, format!("{a}"));
+            fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{a}"));
         }
     }
     let every = betas.len().div_ceil(11).max(1);
@@ -208,17 +211,11 @@ fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str
         let y = p.py(*b);
         fig.line(p.x - 5.0, y, p.x, y, Color::BLACK, 1.0);
         if k % every == 0 {
-            fig.text(p.x - 8.0, y + 4.0, 8.0, Anchor::End, format!("{b}"));
+            fig.text(p.x - 8.0, y + 4.0, 12.0, Anchor::End, format!("{b}"));
         }
     }
-    fig.text(
-        p.x + p.w / 2.0,
-        p.y + p.h + 42.0,
-        16.0,
-        Anchor::Middle,
-        "alpha",
-    );
-    fig.text(p.x - 8.0, p.y - 6.0, 8.0, Anchor::End, "beta");
+    fig.text(p.x + p.w / 2.0, p.y + p.h + 40.0, 17.0, Anchor::Middle, "α");
+    fig.text(p.x - 36.0, p.y + p.h / 2.0 + 6.0, 17.0, Anchor::End, "β");
 }
 
 fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
@@ -237,13 +234,22 @@ fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
     }
 }
 
+/// Width in pixels of `text` at font size `size` (DejaVu Sans averages about 0.6 em).
+fn text_width(text: &str, size: f64) -> f64 {
+    0.6 * size
+        * text
+            .chars()
+            .filter(|c| !matches!(c, '_' | '{' | '}'))
+            .count() as f64
+}
+
 /// The four-panel figure of one diagram.
 pub fn diagram_figure(d: &Diagram) -> Figure {
     let alphas = axis(d.points.iter().map(|p| p.alpha));
     let betas = axis(d.points.iter().map(|p| p.beta));
     let (pw, ph) = (240.0, 300.0);
-    let mut fig = Figure::new(4 * 310 + 90, 480);
-    fig.text(20.0, 24.0, 16.0, Anchor::Start, d.title.clone());
+    let mut fig = Figure::new(4 * 310 + 110, 520);
+    fig.text(20.0, 28.0, 18.0, Anchor::Start, d.title.clone());
     if alphas.is_empty() {
         return fig;
     }
@@ -258,56 +264,53 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
     for (k, title) in titles.iter().enumerate() {
         let p = Panel {
             x: 70.0 + k as f64 * 310.0,
-            y: 80.0,
+            y: 76.0,
             w: pw,
             h: ph,
             ax,
             by,
         };
-        if k == 0 {
-            for pt in &d.points {
+        for pt in &d.points {
+            let mut shapes = Figure::new(0, 0);
+            let (x, y) = (p.px(pt.alpha), p.py(pt.beta));
+            if k == 0 {
                 let r = (cw.min(ch) * 0.38).min(14.0);
                 if let Some(m) = pt.mark {
-                    draw_mark(&mut fig, m, p.px(pt.alpha), p.py(pt.beta), r);
+                    draw_mark(&mut shapes, m, x, y, r);
                 }
-                // Replicates per point, right of the mark; '+' marks an open adaptive point.
+                // Replicates per point, lower right of the mark; '+': an open adaptive point.
                 let n = format!("{}{}", pt.n, if pt.open { "+" } else { "" });
-                fig.text(
-                    p.px(pt.alpha) + r + 1.0,
-                    p.py(pt.beta) + r,
-                    6.0,
-                    Anchor::Start,
-                    n,
-                );
-            }
-        } else {
-            for pt in &d.points {
+                shapes.text(x + r - 1.0, y + r + 3.0, 9.0, Anchor::Start, n);
+            } else {
                 let f = pt.freq[k - 1];
-                let fill = if f.is_finite() {
-                    viridis(f)
-                } else {
-                    Color::LIGHT
-                };
-                fig.push(Shape::Rect {
-                    x: p.px(pt.alpha) - cw / 2.0,
-                    y: p.py(pt.beta) - ch / 2.0,
+                shapes.push(Shape::Rect {
+                    x: x - cw / 2.0,
+                    y: y - ch / 2.0,
                     w: cw + 0.5,
                     h: ch + 0.5,
-                    fill: Some(fill),
+                    fill: Some(if f.is_finite() {
+                        viridis(f)
+                    } else {
+                        Color::LIGHT
+                    }),
                     stroke: None,
                 });
             }
+            fig.push(Shape::Group {
+                title: pt.detail.clone(),
+                shapes: shapes.shapes,
+            });
         }
         lines(&mut fig, &p, d);
         frame(&mut fig, &p, &alphas, &betas, title);
     }
-    // Colour bar of the frequencies.
-    let (bx, by0, bh) = (4.0 * 310.0 + 20.0, 80.0, ph);
+    // Colour bar of the frequencies, ticked at quarters.
+    let (bx, by0, bh) = (4.0 * 310.0 + 20.0, 76.0, ph);
     for i in 0..100 {
-        let t = i as f64 / 99.0;
+        let t = (i as f64 + 0.5) / 100.0;
         fig.push(Shape::Rect {
             x: bx,
-            y: by0 + bh * (1.0 - t) - bh / 100.0,
+            y: by0 + bh * (1.0 - t) - bh / 200.0,
             w: 16.0,
             h: bh / 100.0 + 0.5,
             fill: Some(viridis(t)),
@@ -322,30 +325,44 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
         fill: None,
         stroke: Some(Color::BLACK),
     });
-    for (t, s) in [(0.0, "0"), (0.5, "0.5"), (1.0, "1")] {
-        fig.text(bx + 22.0, by0 + bh * (1.0 - t) + 4.0, 8.0, Anchor::Start, s);
+    for (t, s) in [
+        (0.0, "0"),
+        (0.25, "0.25"),
+        (0.5, "0.5"),
+        (0.75, "0.75"),
+        (1.0, "1"),
+    ] {
+        let y = by0 + bh * (1.0 - t);
+        fig.line(bx + 16.0, y, bx + 21.0, y, Color::BLACK, 1.0);
+        fig.text(bx + 24.0, y + 4.0, 12.0, Anchor::Start, s);
     }
-    // Legend: symbols present, then lines.
+    fig.text(bx - 2.0, by0 - 12.0, 12.0, Anchor::Start, "frequency");
+    // Legend: symbols present, grey cells if any, then lines; a second row explains n.
     let mut x = 70.0;
-    let y = 460.0;
+    let y = 470.0;
     for m in Mark::ALL {
         if d.points.iter().any(|p| p.mark == Some(m)) {
             draw_mark(&mut fig, m, x, y - 5.0, 9.0);
-            fig.text(x + 14.0, y, 8.0, Anchor::Start, m.name());
-            x += 30.0 + 8.0 * m.name().len() as f64;
+            fig.text(x + 14.0, y, 12.0, Anchor::Start, m.name());
+            x += 34.0 + text_width(m.name(), 12.0);
         }
     }
-    fig.text(
-        70.0,
-        y + 14.0,
-        8.0,
-        Anchor::Start,
-        if d.points.iter().any(|p| p.open) {
-            "numbers: replicates per point; + an adaptive point still taking rounds"
-        } else {
-            "numbers: replicates per point"
-        },
-    );
+    if d.points
+        .iter()
+        .any(|p| p.freq.iter().any(|f| !f.is_finite()))
+    {
+        fig.push(Shape::Rect {
+            x,
+            y: y - 12.0,
+            w: 14.0,
+            h: 14.0,
+            fill: Some(Color::LIGHT),
+            stroke: Some(Color::GREY),
+        });
+        let label = "no collision (prep unstable or broke up)";
+        fig.text(x + 20.0, y, 12.0, Anchor::Start, label);
+        x += 40.0 + text_width(label, 12.0);
+    }
     for l in &d.lines {
         fig.push(Shape::Line {
             x1: x,
@@ -356,32 +373,79 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
             width: 2.5,
             dash: Some(6.0),
         });
-        fig.text(x + 36.0, y, 8.0, Anchor::Start, l.label.clone());
-        x += 50.0 + 8.0 * l.label.len() as f64;
+        fig.text(x + 36.0, y, 12.0, Anchor::Start, l.label.clone());
+        x += 56.0 + text_width(&l.label, 12.0);
     }
+    fig.text(
+        70.0,
+        y + 24.0,
+        12.0,
+        Anchor::Start,
+        if d.points.iter().any(|p| p.open) {
+            "numbers: replicates per point (n); n+ : an adaptive point still taking rounds"
+        } else {
+            "numbers: replicates per point (n)"
+        },
+    );
     fig
 }
 
-/// A curve of the speed figure.
+/// Round tick values covering [lo, hi]: steps of 1, 2 or 5 times a power of ten, at most
+/// about `max` of them.
+pub fn nice_ticks(lo: f64, hi: f64, max: usize) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite()) || hi <= lo || max == 0 {
+        return vec![lo];
+    }
+    let raw = (hi - lo) / max as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last)
+        .map(|k| {
+            let v = k as f64 * step;
+            // Shed the float noise of k x step (0.30000000000000004).
+            format!("{v:.10}").parse().unwrap_or(v)
+        })
+        .collect()
+}
+
+/// A curve of the speed figure: points (beta, value) with an optional error bar each.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     pub label: String,
     pub color: Color,
     pub points: Vec<(f64, f64)>,
+    /// Half-heights of the error bars, one per point (empty: none).
+    pub errors: Vec<f64>,
 }
 
 /// Free speed of the prepped cells against beta, one curve per series.
 pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
-    let mut fig = Figure::new(640, 440);
-    fig.text(20.0, 28.0, 16.0, Anchor::Start, title);
-    let all: Vec<(f64, f64)> = series
+    let legend = series
         .iter()
-        .flat_map(|s| s.points.iter().copied())
+        .map(|s| text_width(&s.label, 12.0))
+        .fold(0.0, f64::max);
+    let mut fig = Figure::new((560.0 + legend + 60.0) as u32, 440);
+    fig.text(20.0, 28.0, 16.0, Anchor::Start, title);
+    let bar = |s: &Series, k: usize| s.errors.get(k).copied().filter(|e| e.is_finite());
+    let all: Vec<(f64, f64, f64)> = series
+        .iter()
+        .flat_map(|s| {
+            s.points
+                .iter()
+                .enumerate()
+                .map(move |(k, p)| (p.0, p.1, bar(s, k).unwrap_or(0.0)))
+        })
         .filter(|p| p.1.is_finite())
         .collect();
     if all.is_empty() {
         fig.text(
-            320.0,
+            280.0,
             220.0,
             16.0,
             Anchor::Middle,
@@ -391,15 +455,20 @@ pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
     }
     let betas = axis(all.iter().map(|p| p.0));
     let bx = span(&betas);
-    let vmax = all.iter().map(|p| p.1).fold(0.0, f64::max) * 1.1;
-    let vmin = all.iter().map(|p| p.1).fold(f64::MAX, f64::min).min(0.0);
+    let vmax = all.iter().map(|p| p.1 + p.2).fold(f64::MIN, f64::max);
+    let vmin = all
+        .iter()
+        .map(|p| p.1 - p.2)
+        .fold(f64::MAX, f64::min)
+        .min(0.0);
+    let vmax = vmax + 0.08 * (vmax - vmin).max(1e-9);
     let p = Panel {
-        x: 80.0,
+        x: 90.0,
         y: 60.0,
         w: 420.0,
         h: 300.0,
         ax: bx,
-        by: (vmin, vmax.max(vmin + 1e-9)),
+        by: (vmin, vmax),
     };
     fig.push(Shape::Rect {
         x: p.x,
@@ -409,40 +478,24 @@ pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
         fill: None,
         stroke: Some(Color::BLACK),
     });
-    for b in &betas {
-        fig.text(
-            p.px(*b),
-            p.y + p.h + 20.0,
-            8.0,
-            Anchor::Middle,
-            format!("{b}"),
-        );
+    for b in nice_ticks(bx.0, bx.1, 8) {
+        let x = p.px(b);
+        fig.line(x, p.y + p.h, x, p.y + p.h + 5.0, Color::BLACK, 1.0);
+        fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{b}"));
     }
-    for k in 0..=4 {
-        let v = p.by.0 + (p.by.1 - p.by.0) * k as f64 / 4.0;
+    for v in nice_ticks(p.by.0, p.by.1, 6) {
         fig.line(p.x - 5.0, p.py(v), p.x, p.py(v), Color::BLACK, 1.0);
-        fig.text(
-            p.x - 8.0,
-            p.py(v) + 4.0,
-            8.0,
-            Anchor::End,
-            format!("{v:.2}"),
-        );
+        fig.text(p.x - 8.0, p.py(v) + 4.0, 12.0, Anchor::End, format!("{v}"));
     }
-    fig.text(
-        p.x + p.w / 2.0,
-        p.y + p.h + 42.0,
-        16.0,
-        Anchor::Middle,
-        "beta",
-    );
-    fig.text(p.x, p.y - 12.0, 8.0, Anchor::Middle, "free speed (l0/tau0)");
+    fig.text(p.x + p.w / 2.0, p.y + p.h + 42.0, 17.0, Anchor::Middle, "β");
+    fig.vtext(p.x - 52.0, p.y + p.h / 2.0, 14.0, "free speed (l_0/τ_0)");
     for (k, s) in series.iter().enumerate() {
-        let mut pts: Vec<(f64, f64)> = s
+        let mut pts: Vec<(f64, f64, Option<f64>)> = s
             .points
             .iter()
-            .copied()
-            .filter(|p| p.1.is_finite())
+            .enumerate()
+            .map(|(i, q)| (q.0, q.1, bar(s, i)))
+            .filter(|q| q.1.is_finite())
             .collect();
         pts.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
         for w in pts.windows(2) {
@@ -455,7 +508,14 @@ pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
                 2.0,
             );
         }
-        for (b, v) in &pts {
+        for (b, v, e) in &pts {
+            if let Some(e) = e {
+                let x = p.px(*b);
+                fig.line(x, p.py(v - e), x, p.py(v + e), s.color, 1.5);
+                for y in [p.py(v - e), p.py(v + e)] {
+                    fig.line(x - 4.0, y, x + 4.0, y, s.color, 1.5);
+                }
+            }
             fig.push(Shape::Circle {
                 cx: p.px(*b),
                 cy: p.py(*v),
@@ -465,14 +525,26 @@ pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
             });
         }
         let ly = p.y + 10.0 + 20.0 * k as f64;
-        fig.line(p.x + p.w + 12.0, ly, p.x + p.w + 34.0, ly, s.color, 2.0);
+        fig.line(p.x + p.w + 14.0, ly, p.x + p.w + 36.0, ly, s.color, 2.0);
         fig.text(
-            p.x + p.w + 40.0,
+            p.x + p.w + 42.0,
             ly + 4.0,
-            8.0,
+            12.0,
             Anchor::Start,
             s.label.clone(),
         );
     }
     fig
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nice_ticks;
+
+    #[test]
+    fn ticks_are_round() {
+        assert_eq!(nice_ticks(0.0, 0.76, 6), vec![0.0, 0.2, 0.4, 0.6]);
+        assert_eq!(nice_ticks(8.0, 52.0, 8), vec![10.0, 20.0, 30.0, 40.0, 50.0]);
+        assert_eq!(nice_ticks(0.0, 1.0, 4), vec![0.0, 0.5, 1.0]);
+    }
 }

@@ -1,6 +1,6 @@
 //! The pictures are valid SVG, PNG and GIF files with the expected elements.
 
-use cellsweep_plot::frames::{render, Snapshot};
+use cellsweep_plot::frames::{figure, Snapshot};
 use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Mark, Point};
 use cellsweep_plot::{gif, Color};
 
@@ -14,6 +14,7 @@ fn diagram() -> Diagram {
             freq: [0.2, 0.7, 0.1],
             n: 96,
             open: k == 0,
+            detail: format!("point {k}: n = 96 & <counts>"),
         });
     }
     Diagram {
@@ -37,7 +38,11 @@ fn phase_diagrams_are_valid_svg_with_symbols_heat_maps_and_dashed_lines() {
     // Every element is closed (a crude well-formedness check: one tag per line).
     for line in svg.lines().skip(1) {
         assert!(
-            line.ends_with("/>") || line.ends_with("</text>") || line == "</svg>",
+            line.ends_with("/>")
+                || line.ends_with("</text>")
+                || line.ends_with("</title>")
+                || line == "</g>"
+                || line == "</svg>",
             "{line}"
         );
     }
@@ -66,18 +71,23 @@ fn phase_diagrams_are_valid_svg_with_symbols_heat_maps_and_dashed_lines() {
     }
     // 8 points x 3 heat maps at least.
     assert!(svg.matches("<rect").count() >= 24);
+    // Every point carries its counts as a tooltip, escaped, in each of the four panels.
+    assert_eq!(svg.matches("<title>point ").count(), 4 * 8);
+    assert!(svg.contains("<title>point 0: n = 96 &amp; &lt;counts&gt;</title>"));
+    // Greek axis labels and a subscripted label.
+    assert!(svg.contains(">α</text>") && svg.contains(">β</text>"));
 }
 
 #[test]
 fn phase_diagrams_rasterize_to_valid_png() {
     let fig = diagram_figure(&diagram());
-    let png = fig.rasterize().to_png();
+    let png = fig.to_png(2.0).unwrap();
     let decoder = png::Decoder::new(std::io::Cursor::new(&png));
     let reader = decoder.read_info().unwrap();
     let info = reader.info();
-    assert_eq!((info.width, info.height), (fig.width, fig.height));
+    assert_eq!((info.width, info.height), (2 * fig.width, 2 * fig.height));
     // Not blank: some pixels are coloured.
-    let r = fig.rasterize();
+    let r = fig.rasterize(1.0).unwrap();
     assert!(r.rgb.chunks(3).any(|p| p[0] != p[1] || p[1] != p[2]));
 }
 
@@ -101,12 +111,24 @@ fn snapshots_render_and_animate() {
         phi: [&a, &b],
         p: [&p, &p],
         fiber_rows: &rows,
-        caption: "t = 0".into(),
+        time: 12.0,
+        note: String::new(),
     };
-    let r = render(&snap, 2);
-    assert_eq!(r.width, 80);
-    // The 0.5 contour is drawn in black.
+    let fig = figure(&snap);
+    let svg = fig.to_svg();
+    assert!(
+        svg.contains("data:image/png;base64,"),
+        "fields as embedded PNG"
+    );
+    assert!(
+        svg.contains("10 µm") && svg.contains("6 min"),
+        "scale bar, time in minutes"
+    );
+    let r = fig.rasterize(2.0).unwrap();
+    assert_eq!(r.width, 2 * fig.width);
+    // The 0.5 contour is drawn in black, inside the embedded field image.
     assert!(r.rgb.chunks(3).any(|px| px == [0, 0, 0]));
-    let g = gif(&[render(&snap, 1), render(&snap, 1)], 20).unwrap();
+    let frame = || fig.rasterize(1.0).unwrap();
+    let g = gif(&[frame(), frame()], 20).unwrap();
     assert_eq!(&g[..6], b"GIF89a");
 }

@@ -222,13 +222,20 @@ impl Run<'_> {
         let mut track = vec![first];
 
         monitor.stage(Stage::Collide, steps.collide);
+        let mut shown = None;
         if monitor.wants_fields(0.0) {
             show(monitor, 0.0, &a, &b);
+            shown = Some(0);
         }
+        let run_on = monitor.run_on().max(0.0);
         let mut done = 0;
         for s in 0..steps.collide {
-            if decision.is_some() && protocol.stop_early {
-                break;
+            if let Some(d) = decision {
+                // (run_on = 0, every sweep: stop at once, as before.)
+                if protocol.stop_early && (run_on == 0.0 || s as f64 * params.dt >= d.time + run_on)
+                {
+                    break;
+                }
             }
             let nz = noise.at(s);
             let nz = [nz[0], nz[1]];
@@ -263,16 +270,22 @@ impl Run<'_> {
                 }
                 if decision.is_none() {
                     decision = classifier.observe(t, smp.x[0], smp.x[1], smp.overlap);
-                    if decision.is_some() {
+                    if let Some(d) = &decision {
                         at_decision = [a.sums, b.sums];
+                        monitor.decided(d);
                     }
                 }
                 track.push(smp);
                 monitor.advance(n);
                 if monitor.wants_fields(t) {
                     show(monitor, t, &a, &b);
+                    shown = Some(n);
                 }
             }
+        }
+        // The last instant too, so that a movie ends where the run did.
+        if monitor.records_fields() && shown != Some(done) {
+            show(monitor, done as f64 * params.dt, &a, &b);
         }
         if decision.is_none() {
             at_decision = [a.sums, b.sums];

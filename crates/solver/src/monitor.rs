@@ -32,6 +32,13 @@ pub trait Monitor {
         _cells: [&crate::Cell; 2],
     ) {
     }
+    /// Tau0 a collision that stops early should go on after its outcome is decided (a movie
+    /// that shows the outcome happen). The outcome is the first event, so it cannot change.
+    fn run_on(&self) -> f64 {
+        0.0
+    }
+    /// The collision's outcome was decided.
+    fn decided(&mut self, _decision: &crate::Decision) {}
     /// A stage of at most `total_steps` steps begins.
     fn stage(&mut self, _stage: Stage, _total_steps: u64) {}
     /// `steps_done` steps of the current stage are done.

@@ -55,6 +55,30 @@ impl Monitor for StageBars {
     }
 }
 
+/// A duration as `45s`, `12m05s` or `3h07m`.
+pub fn fmt_duration(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    match s {
+        0..=59 => format!("{s}s"),
+        60..=3599 => format!("{}m{:02}s", s / 60, s % 60),
+        _ => format!("{}h{:02}m", s / 3600, (s % 3600) / 60),
+    }
+}
+
+/// Speed and time left, as `status` and the running sweep's bar both print them (one
+/// estimator: `cellsweep_store::throughput`). None before any job has finished.
+pub fn speed_line(jobs_per_s: Option<f64>, remaining: f64) -> Option<String> {
+    let rate = jobs_per_s?;
+    Some(
+        match cellsweep_store::throughput::eta_s(remaining, Some(rate)) {
+            Some(eta) if remaining > 0.0 => {
+                format!("{:.2} jobs/min · ETA {}", rate * 60.0, fmt_duration(eta))
+            }
+            _ => format!("{:.2} jobs/min", rate * 60.0),
+        },
+    )
+}
+
 /// Progress of a sweep: an indicatif bar on a terminal, a plain line every 10 s otherwise.
 pub struct SweepBar {
     bar: Option<ProgressBar>,
@@ -68,11 +92,13 @@ impl SweepBar {
             let bar = ProgressBar::new(0);
             bar.set_style(
                 ProgressStyle::with_template(
-                    "[{elapsed_precise}] [{bar:30}] {pos}/{len} jobs ({per_sec}, ETA {eta}) {msg}",
+                    "{spinner} [{elapsed_precise}] [{bar:30}] {pos}/{len} jobs | {msg}",
                 )
                 .expect("valid template")
                 .progress_chars("=> "),
             );
+            // The clock and spinner move between events (a collision takes seconds).
+            bar.enable_steady_tick(std::time::Duration::from_millis(250));
             bar
         });
         SweepBar {
@@ -84,17 +110,32 @@ impl SweepBar {
 
     fn message(p: &cellsweep_scheduler::Progress) -> String {
         let o = &p.outcomes;
-        let mut s = format!(
-            "train {} walk {} rev {} undet {} | preps {}/{}",
-            o.train, o.walk_past, o.reversal, o.undetermined, p.preps_done, p.preps_total
-        );
+        let mut parts = Vec::new();
+        // The phase: prepping cells (no collision starts before its prep), or collisions with
+        // the speed and time left once some have finished.
+        if p.preps_done < p.preps_total && p.jobs_done == 0 {
+            parts.push(format!(
+                "preparing cells: {}/{} preps",
+                p.preps_done, p.preps_total
+            ));
+        } else if let Some(l) = speed_line(
+            p.jobs_per_s,
+            p.jobs_total.saturating_sub(p.jobs_done) as f64,
+        ) {
+            parts.push(l);
+        }
+        parts.push(format!(
+            "train {} walk {} rev {} undet {}",
+            o.train, o.walk_past, o.reversal, o.undetermined
+        ));
+        parts.push(format!("preps {}/{}", p.preps_done, p.preps_total));
         if o.unstable + o.breakup > 0 {
-            s += &format!(" | unstable {} breakup {}", o.unstable, o.breakup);
+            parts.push(format!("unstable {} breakup {}", o.unstable, o.breakup));
         }
         if p.failed > 0 || p.retries > 0 {
-            s += &format!(" | failed {} retried {}", p.failed, p.retries);
+            parts.push(format!("failed {} retried {}", p.failed, p.retries));
         }
-        s
+        parts.join(" | ")
     }
 
     pub fn finish(&mut self) {

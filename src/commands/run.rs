@@ -3,7 +3,9 @@
 use std::time::Duration;
 
 use anyhow::Context;
-use cellsweep_scheduler::{plan, run_sweep, Ending, RunOptions, StoreLock, Sweep, WorkerCommand};
+use cellsweep_scheduler::{
+    plan, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
+};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::{Standing, Store};
 
@@ -86,6 +88,33 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
         println!("retrying {n} failed jobs and preps (attempts reset)");
     }
+    // A finished sweep (an adaptive one with no round to add): say so and run nothing.
+    if !reg.created && reg.grown_from.is_none() {
+        Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?.plan_rounds(&mut store)?;
+        let st = store
+            .status()?
+            .into_iter()
+            .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION);
+        if let Some(s) =
+            st.filter(|s| s.jobs.pending + s.jobs.running == 0 && s.preps_done == s.preps_total)
+        {
+            let failed = if s.jobs.failed > 0 {
+                format!(
+                    " ({} failed: `cellsweep run --retry-failed` runs them again)",
+                    s.jobs.failed
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{} of {} jobs done{failed}, nothing to run",
+                s.jobs.done,
+                s.jobs.total()
+            );
+            summarize(&args, &store, reg.sweep_id, &sweep, false)?;
+            return Ok(failed_exit(s.jobs.failed as u64, &sweep.name));
+        }
+    }
     let opts = RunOptions {
         workers,
         job_timeout: Duration::from_secs_f64(
@@ -117,14 +146,48 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     crate::on_broken_pipe(crate::OnBrokenPipe::Die);
     let report = report?;
 
-    super::status::print_point_counts(&store, reg.sweep_id, &sweep.name)?;
+    summarize(
+        &args,
+        &store,
+        reg.sweep_id,
+        &sweep,
+        report.ending == Ending::Interrupted,
+    )?;
+    Ok(match report.ending {
+        Ending::Interrupted => 130,
+        Ending::Finished => failed_exit(report.progress.failed, &sweep.name),
+    })
+}
+
+/// Exit code of a finished run: 1, with the way out, if jobs failed after their retries.
+fn failed_exit(failed: u64, name: &str) -> i32 {
+    if failed == 0 {
+        return 0;
+    }
+    eprintln!(
+        "error: {failed} jobs of {name:?} failed after retries; `cellsweep status --failed` lists \
+         them with their errors, `cellsweep run --retry-failed` runs them again"
+    );
+    1
+}
+
+/// After a run: the point counts, the diagram tables, the figures if asked (only for a
+/// finished sweep), and an adaptive sweep's standing.
+fn summarize(
+    args: &RunArgs,
+    store: &Store,
+    sweep_id: i64,
+    sweep: &Sweep,
+    interrupted: bool,
+) -> anyhow::Result<()> {
+    super::status::print_point_counts(store, sweep_id, &sweep.name)?;
     let loaded = super::counts::from_store(&args.db.db, Some(&sweep.name))?;
     println!();
     for (l, sigma) in super::table::diagrams(&loaded.counts) {
         println!("{}", super::table::grid_text(&loaded.counts, l, sigma));
     }
     println!("{}", super::table::LEGEND);
-    let unfinished = report.ending == Ending::Interrupted
+    let unfinished = interrupted
         || loaded
             .standings
             .as_ref()
@@ -156,17 +219,5 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
             100.0 * ran as f64 / budget.max(1) as f64
         );
     }
-    let p = &report.progress;
-    Ok(match report.ending {
-        Ending::Interrupted => 130,
-        Ending::Finished if p.failed > 0 => {
-            eprintln!(
-                "error: {} jobs of {:?} failed after retries; `cellsweep status --failed` lists \
-                 them with their errors, `cellsweep run --retry-failed` runs them again",
-                p.failed, sweep.name
-            );
-            1
-        }
-        Ending::Finished => 0,
-    })
+    Ok(())
 }

@@ -4,15 +4,7 @@ use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::{OutcomeCounts, Store};
 
 use crate::cli::StatusArgs;
-
-fn fmt_duration(s: f64) -> String {
-    let s = s.max(0.0).round() as u64;
-    match s {
-        0..=59 => format!("{s}s"),
-        60..=3599 => format!("{}m{:02}s", s / 60, s % 60),
-        _ => format!("{}h{:02}m", s / 3600, (s % 3600) / 60),
-    }
-}
+use crate::progress::speed_line;
 
 pub fn outcome_line(o: &OutcomeCounts) -> String {
     let mut s = format!(
@@ -143,16 +135,8 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 );
             }
         }
-        match (s.jobs_per_s, s.eta_s) {
-            (Some(r), Some(eta)) if j.pending + j.running > 0 => {
-                println!(
-                    "  speed    {:.2} jobs/min · ETA {}",
-                    r * 60.0,
-                    fmt_duration(eta)
-                )
-            }
-            (Some(r), _) => println!("  speed    {:.2} jobs/min", r * 60.0),
-            _ => {}
+        if let Some(line) = speed_line(s.jobs_per_s, (j.pending + j.running) as f64) {
+            println!("  speed    {line}");
         }
     }
     Ok(())

@@ -13,7 +13,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use std::time::Duration;
 
 use cellsweep_solver::{Config, Outcome, Verdict};
-use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, Store};
+use cellsweep_store::{throughput, JobState, JobTask, OutcomeCounts, PrepTask, Store};
 use tokio::sync::mpsc;
 
 use crate::error::RunError;
@@ -45,6 +45,9 @@ pub struct Progress {
     pub failed: u64,
     pub retries: u64,
     pub running: usize,
+    /// Jobs per second over the latest window of this run's activity, by the estimator
+    /// `status` uses (`cellsweep_store::throughput`).
+    pub jobs_per_s: Option<f64>,
 }
 
 /// Receives progress and notes from a run.
@@ -107,6 +110,8 @@ struct Run<'a> {
     payloads: HashMap<i64, PrepPayload>,
     prep_seeds: HashMap<i64, u64>,
     progress: Progress,
+    /// (started, finished) of the jobs this run finished in the latest window.
+    spans: Vec<(f64, f64)>,
 }
 
 impl Run<'_> {
@@ -259,6 +264,10 @@ impl Run<'_> {
                     Settlement::Already => {}
                     Settlement::New => {
                         self.progress.jobs_done += 1;
+                        let t = cellsweep_store::now();
+                        self.spans.push((t - wall_s, t));
+                        self.spans.retain(|s| s.1 >= t - throughput::WINDOW_S);
+                        self.progress.jobs_per_s = throughput::jobs_per_s(&self.spans);
                         count(
                             &mut self.progress.outcomes,
                             result.verdict.as_str(),
@@ -342,6 +351,7 @@ pub async fn run_sweep(
         payloads: HashMap::new(),
         prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
         progress: Progress::default(),
+        spans: Vec::new(),
     };
     run.refresh_totals()?;
     run.progress.preps_total = preps.len() as u64;

@@ -21,6 +21,7 @@ pub mod schema;
 pub mod slurm;
 pub mod status;
 pub mod store;
+pub mod throughput;
 
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use binomial::clopper_pearson;

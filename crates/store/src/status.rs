@@ -1,5 +1,6 @@
 //! Read-side queries: progress of sweeps and outcome counts per point.
 
+use crate::throughput::{self, WINDOW_S};
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
@@ -117,16 +118,17 @@ impl Store {
             )?;
             let jobs_per_s = match last {
                 Some(last) => {
-                    let (n, first): (i64, Option<f64>) = self.conn.query_row(
-                        "SELECT COUNT(*), MIN(j.started_at) FROM jobs j JOIN points p ON p.id = j.point_id
+                    let mut q = self.conn.prepare_cached(
+                        "SELECT j.started_at, j.finished_at FROM jobs j JOIN points p ON p.id = j.point_id
                          WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'done'
                            AND j.finished_at >= ?3 AND j.started_at IS NOT NULL",
-                        params![sweep_id, version, last - 600.0],
-                        |r| Ok((r.get(0)?, r.get(1)?)),
                     )?;
-                    first
-                        .filter(|&f| last > f && n > 0)
-                        .map(|f| n as f64 / (last - f))
+                    let spans: Vec<(f64, f64)> = q
+                        .query_map(params![sweep_id, version, last - WINDOW_S], |r| {
+                            Ok((r.get(0)?, r.get(1)?))
+                        })?
+                        .collect::<rusqlite::Result<_>>()?;
+                    throughput::jobs_per_s(&spans)
                 }
                 None => None,
             };
@@ -134,7 +136,7 @@ impl Store {
             out.push(SweepStatus {
                 sweep: name,
                 solver_version: version,
-                eta_s: jobs_per_s.map(|r| remaining / r),
+                eta_s: throughput::eta_s(remaining, jobs_per_s),
                 jobs,
                 outcomes,
                 preps_done,

@@ -118,11 +118,12 @@ impl SweepBar {
                 "preparing cells: {}/{} preps",
                 p.preps_done, p.preps_total
             ));
-        } else if let Some(l) = speed_line(
-            p.jobs_per_s,
-            p.jobs_total.saturating_sub(p.jobs_done) as f64,
-        ) {
-            parts.push(l);
+        } else {
+            let left = p.jobs_total.saturating_sub(p.jobs_done) as f64;
+            parts.push(
+                speed_line(p.jobs_per_s, left)
+                    .unwrap_or_else(|| "collisions running, speed after the first".into()),
+            );
         }
         parts.push(format!(
             "train {} walk {} rev {} undet {}",

@@ -6,7 +6,7 @@ use anyhow::Context;
 use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_store::{
-    fit::PAPER_A, fit::PAPER_B, fit_line, Assessment, Counts, Label, Scales, Standing,
+    fit::PAPER_A, fit::PAPER_B, fit_line, wilson, Assessment, Counts, Label, Scales, Standing,
 };
 
 use super::counts::{self, Loaded};
@@ -217,6 +217,19 @@ fn detail(c: &Counts, a: Option<&Assessment>) -> String {
         out += &format!(", unstable {}, breakup {}", c.n_unstable, c.n_breakup);
     }
     out += ")";
+    let collided = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+    if collided > 0 {
+        let f = |k: u64| {
+            let w = wilson(k, collided);
+            format!("{:.2} [{:.2}, {:.2}]", w.value, w.low, w.high)
+        };
+        out += &format!(
+            "; fractions with 95% Wilson intervals: training {}, walk-past {}, reversal {}",
+            f(c.n_train),
+            f(c.n_walk),
+            f(c.n_reversal)
+        );
+    }
     if let Some(label) = c.label() {
         out += &format!("; label {}", label.as_str());
     }

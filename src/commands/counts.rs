@@ -121,13 +121,15 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         };
         let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
             bail!(
-                "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?}",
+                "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
+                 result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
+                 other verdicts have none)",
                 path.display(),
                 r.replicate,
                 r.alpha,
                 r.beta,
                 r.verdict,
-                r.outcome
+                r.outcome.as_deref().unwrap_or("")
             );
         };
         let e = &mut ends[i].ends;

@@ -463,7 +463,8 @@ impl Ledger {
         if row.verdict != verdict || !outcome_ok {
             return refuse(format!(
                 "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
-                row.verdict, row.outcome
+                row.verdict,
+                row.outcome.as_deref().unwrap_or("")
             ));
         }
         Ok(match job.state {

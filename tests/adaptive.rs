@@ -308,3 +308,38 @@ fn later_rounds_reach_preps_a_worker_has_dropped_from_its_cache() {
     );
     assert_eq!(count(&db, "SELECT COUNT(*) FROM results"), 6 * 12);
 }
+
+/// The paper's speed figure from an export: several preps per point give a mean free speed
+/// with its standard error per beta, and the export names each prep's seed.
+#[test]
+fn an_export_with_several_preps_per_point_plots_mean_speeds_with_error_bars() {
+    let dir = common::workdir("speed", "export");
+    std::fs::write(
+        dir.join("sp.toml"),
+        "name = \"sp\"\nseed = 1\nreplicates = 3\npreps_per_point = 3\n[grid]\nalpha = [0.1]\n\
+         beta = [10, 14]\nL = [48]\nsigma = [5]\n[params]\nR0 = 24\n[protocol]\n\
+         single_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = 1\n",
+    )
+    .unwrap();
+    for args in [
+        &["run", "sp.toml", "--db", "s.sqlite"][..],
+        &["export", "--db", "s.sqlite", "--out", "sp.csv"],
+        &["plot", "--data", "sp.csv", "--out", "p"],
+    ] {
+        let out = common::cellsweep_in(&dir, args);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let text = std::fs::read_to_string(dir.join("sp.csv")).unwrap();
+    let seeds: std::collections::HashSet<&str> = text
+        .lines()
+        .skip(3)
+        .map(|l| l.split(',').nth(7).unwrap())
+        .collect();
+    assert_eq!(seeds.len(), 6, "three preps per point, each its own seed");
+    let svg = std::fs::read_to_string(dir.join("p/free-speed.svg")).unwrap();
+    assert!(svg.contains("mean free speed of the prepped cells ± standard error"));
+}

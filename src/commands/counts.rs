@@ -17,6 +17,9 @@ pub struct Loaded {
     pub scales: Scales,
     /// An adaptive sweep's standing of each point, beside `counts`.
     pub standings: Option<Vec<Assessment>>,
+    /// The free speed of each of a point's distinct prepped cells, beside `counts`, where the
+    /// source has them one by one (an export); a store and a counts file give the mean only.
+    pub prep_speeds: Option<Vec<Vec<f64>>>,
 }
 
 pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
@@ -29,6 +32,7 @@ pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
             counts: read_csv(path)?,
             scales: Scales::default(),
             standings: None,
+            prep_speeds: None,
         }),
         None => from_store(&src.db, src.sweep.as_deref()),
     }
@@ -84,6 +88,7 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
         counts,
         scales,
         standings,
+        prep_speeds: None,
     })
 }
 
@@ -102,7 +107,8 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
             ends: Vec::new(),
         })
         .collect();
-    let mut speeds: Vec<Option<f64>> = vec![None; ends.len()];
+    // Each distinct prep's free speed (a point's replicates share their preps round-robin).
+    let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];
     for r in &rows {
         let at = (r.alpha, r.beta, r.L, r.sigma);
         let Some(i) = ends
@@ -152,12 +158,18 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
                 r.beta
             );
         }
-        speeds[i] = speeds[i].or(r.free_speed);
+        if let Some(v) = r.free_speed.filter(|v| v.is_finite()) {
+            if !speeds[i].iter().any(|(seed, _)| *seed == r.prep_seed) {
+                speeds[i].push((r.prep_seed, v));
+            }
+        }
     }
     let counts = ends
         .iter()
         .zip(&speeds)
-        .map(|(p, speed)| {
+        .map(|(p, preps)| {
+            let speed = (!preps.is_empty())
+                .then(|| preps.iter().map(|s| s.1).sum::<f64>() / preps.len() as f64);
             let mut c = Counts {
                 alpha: p.alpha,
                 beta: p.beta,
@@ -170,7 +182,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
                 n_unstable: 0,
                 n_breakup: 0,
                 verdict: None,
-                free_speed: *speed,
+                free_speed: speed,
             };
             for end in p.ends.iter().flatten() {
                 *match end {
@@ -196,6 +208,12 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
             d: sweep.params.d,
         },
         standings,
+        prep_speeds: Some(
+            speeds
+                .into_iter()
+                .map(|p| p.into_iter().map(|s| s.1).collect())
+                .collect(),
+        ),
     })
 }
 

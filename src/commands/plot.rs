@@ -159,30 +159,37 @@ pub fn write_plots(loaded: &Loaded, dir: &Path) -> anyhow::Result<Vec<PathBuf>> 
         .enumerate()
         .map(|(k, &(l, alpha))| {
             let mut points: Vec<(f64, f64)> = Vec::new();
-            for c in loaded
-                .counts
-                .iter()
-                .filter(|c| c.L == l && c.alpha == alpha)
-            {
+            let mut errors: Vec<f64> = Vec::new();
+            for (i, c) in loaded.counts.iter().enumerate() {
+                if c.L != l || c.alpha != alpha || points.iter().any(|p| p.0 == c.beta) {
+                    continue;
+                }
                 if let Some(v) = c.free_speed {
-                    if !points.iter().any(|p| p.0 == c.beta) {
-                        points.push((c.beta, v));
-                    }
+                    points.push((c.beta, v));
+                    // The standard error of the mean over the point's prepped cells.
+                    let cells = loaded.prep_speeds.as_ref().map_or(&[][..], |s| &s[i][..]);
+                    errors.push(standard_error(cells));
                 }
             }
+            let several = errors.iter().any(|e| e.is_finite());
             Series {
                 label: format!("L = {l}, α = {alpha}"),
                 color: palette[k % palette.len()],
                 points,
-                errors: Vec::new(),
+                errors: if several { errors } else { Vec::new() },
             }
         })
         .collect();
+    let title = if series.iter().any(|s| !s.errors.is_empty()) {
+        format!(
+            "{}: mean free speed of the prepped cells ± standard error",
+            loaded.name
+        )
+    } else {
+        format!("{}: free speed of the prepped cell", loaded.name)
+    };
     write(
-        &speed_figure(
-            &format!("{}: free speed of the prepped cell", loaded.name),
-            &series,
-        ),
+        &speed_figure(&title, &series),
         dir,
         "free-speed",
         &mut written,
@@ -249,4 +256,28 @@ fn detail(c: &Counts, a: Option<&Assessment>) -> String {
         }
     }
     out
+}
+
+/// The standard error of the mean of `xs` (NaN for fewer than two).
+fn standard_error(xs: &[f64]) -> f64 {
+    let n = xs.len() as f64;
+    if xs.len() < 2 {
+        return f64::NAN;
+    }
+    let mean = xs.iter().sum::<f64>() / n;
+    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (var / n).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::standard_error;
+
+    #[test]
+    fn the_standard_error_is_of_the_mean() {
+        // Sample sd of 1, 2, 3, 4 is sqrt(5/3); over sqrt(4).
+        let se = standard_error(&[1.0, 2.0, 3.0, 4.0]);
+        assert!((se - (5.0f64 / 3.0).sqrt() / 2.0).abs() < 1e-12);
+        assert!(standard_error(&[1.0]).is_nan());
+    }
 }

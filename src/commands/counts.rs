@@ -170,31 +170,11 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         .map(|(p, preps)| {
             let speed = (!preps.is_empty())
                 .then(|| preps.iter().map(|s| s.1).sum::<f64>() / preps.len() as f64);
-            let mut c = Counts {
-                alpha: p.alpha,
-                beta: p.beta,
-                L: p.L,
-                sigma: p.sigma,
-                n_train: 0,
-                n_walk: 0,
-                n_reversal: 0,
-                n_undetermined: 0,
-                n_unstable: 0,
-                n_breakup: 0,
-                verdict: None,
+            // Every finished replicate (an export of a running sweep may have gaps).
+            Counts {
                 free_speed: speed,
-            };
-            for end in p.ends.iter().flatten() {
-                *match end {
-                    End::Train => &mut c.n_train,
-                    End::WalkPast => &mut c.n_walk,
-                    End::Reversal => &mut c.n_reversal,
-                    End::Undetermined => &mut c.n_undetermined,
-                    End::Unstable => &mut c.n_unstable,
-                    End::Breakup => &mut c.n_breakup,
-                } += 1;
+                ..p.counts(p.ends.len() as u32)
             }
-            c
         })
         .collect();
     let standings = sweep

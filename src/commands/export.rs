@@ -5,7 +5,7 @@ use cellsweep_scheduler::wire::PrepPayload;
 use cellsweep_scheduler::{plan_targets, Ledger, RowCheck, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
+use cellsweep_store::export::{ExportRow, EXPORT_FORMAT, READ_FORMATS};
 use cellsweep_store::JobState;
 use cellsweep_store::Store;
 use rayon::prelude::*;
@@ -64,9 +64,20 @@ pub fn read_export(path: &std::path::Path) -> anyhow::Result<(Sweep, Vec<ExportR
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
     let mut lines = text.lines();
     let head = lines.next().unwrap_or("");
-    let expect = format!("# cellsweep export format {EXPORT_FORMAT};");
-    if !head.starts_with(&expect) {
-        bail!("{file}: line 1: not a cellsweep export of format {EXPORT_FORMAT} (expected {expect:?} ...)");
+    let format = head
+        .strip_prefix("# cellsweep export format ")
+        .and_then(|rest| rest.split(';').next())
+        .and_then(|v| v.parse::<u32>().ok());
+    match format {
+        Some(f) if READ_FORMATS.contains(&f) => {}
+        Some(f) => bail!(
+            "{file}: line 1: export format {f}, and this build reads formats {READ_FORMATS:?} \
+             (a newer cellsweep wrote it?)"
+        ),
+        None => bail!(
+            "{file}: line 1: not a cellsweep export (expected \"# cellsweep export format \
+             {EXPORT_FORMAT}; ...\")"
+        ),
     }
     let spec = lines
         .next()
@@ -136,21 +147,30 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
             missing.len()
         );
     }
-    let computed: Vec<(i64, anyhow::Result<PrepPayload>)> = missing
+    let computed: Vec<(i64, u64, f64, anyhow::Result<PrepPayload>)> = missing
         .par_iter()
         .map(|p| {
+            let start = std::time::Instant::now();
             let run = || -> anyhow::Result<PrepPayload> {
                 let config: Config = serde_json::from_str(&p.config)?;
                 let prep = prepare(&config.params, &config.protocol, p.seed, &mut Silent)?;
                 Ok(PrepPayload::from_prep(&prep))
             };
-            (p.id, run())
+            let payload = run();
+            (p.id, p.seed, start.elapsed().as_secs_f64(), payload)
         })
         .collect();
-    for (id, payload) in computed {
+    for (id, seed, took, payload) in computed {
         let payload = payload.with_context(|| format!("prep {id}"))?;
+        // The prep's cost where the rows were made, if they say; else this recomputation's.
+        let wall_s = rows
+            .iter()
+            .find(|r| r.prep_seed == seed)
+            .and_then(|r| r.prep_wall_s)
+            .filter(|w| w.is_finite() && *w > 0.0)
+            .unwrap_or(took);
         if let Settlement::Refused(why) = ledger
-            .settle_prep(&mut store, id, &payload, 0.0)?
+            .settle_prep(&mut store, id, &payload, wall_s)?
             .settlement
         {
             bail!("{why}");

@@ -10,8 +10,11 @@ use crate::digest::fnv1a;
 use crate::error::Result;
 use crate::store::{seed_from_sql, Store};
 
-/// Version of the exported columns; bumped on any change to them.
-pub const EXPORT_FORMAT: u32 = 1;
+/// Version of the exported columns; bumped on any change to them. Format 2 added the wall
+/// times (`wall_s`, `prep_wall_s`); a format 1 file reads with them empty.
+pub const EXPORT_FORMAT: u32 = 2;
+/// The formats this build reads.
+pub const READ_FORMATS: [u32; 2] = [1, 2];
 
 /// One exported replicate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -43,6 +46,12 @@ pub struct ExportRow {
     pub prep_hash: String,
     /// JSON of the classifier settings.
     pub classifier: String,
+    /// Seconds the collision took on its worker (empty: not recorded, e.g. a format 1 row).
+    #[serde(default)]
+    pub wall_s: Option<f64>,
+    /// Seconds the row's prep took (shared by the replicates of that prep).
+    #[serde(default)]
+    pub prep_wall_s: Option<f64>,
 }
 
 /// JSON of the parameters of a point's configuration (`{"params": {...}, ...}`) that differ
@@ -77,7 +86,7 @@ impl Store {
             "SELECT p.alpha, p.beta, p.L, p.sigma, p.params, j.replicate, pr.id, pr.seed, j.seed,
                     r.verdict, r.outcome, r.contact_time, r.decision_time, r.attachment_1,
                     r.attachment_2, r.free_speed, r.threshold_speed, r.collision_steps,
-                    r.solver_version, r.classifier
+                    r.solver_version, r.classifier, r.wall_s, pr.wall_s
              FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
              JOIN preps pr ON pr.id = j.prep_id
              WHERE p.sweep_id = ?1 AND r.solver_version = ?2
@@ -88,14 +97,6 @@ impl Store {
         let mut rows = q.query(params![sweep_id, version])?;
         while let Some(r) = rows.next()? {
             let config: serde_json::Value = serde_json::from_str(&r.get::<_, String>(4)?)?;
-            let mut changed = serde_json::Map::new();
-            if let Some(p) = config["params"].as_object() {
-                for (k, v) in p {
-                    if !["alpha", "beta", "L", "sigma"].contains(&k.as_str()) && defaults[k] != *v {
-                        changed.insert(k.clone(), v.clone());
-                    }
-                }
-            }
             let prep_id: i64 = r.get(6)?;
             if let std::collections::hash_map::Entry::Vacant(e) = hashes.entry(prep_id) {
                 e.insert(self.prep_hash(prep_id)?);
@@ -126,6 +127,9 @@ impl Store {
                 solver_version: r.get(18)?,
                 prep_hash: hashes[&prep_id].clone(),
                 classifier: r.get(19)?,
+                // Zero or absent: not measured (a row imported from format 1).
+                wall_s: r.get::<_, Option<f64>>(20)?.filter(|&w| w > 0.0),
+                prep_wall_s: r.get::<_, Option<f64>>(21)?.filter(|&w| w > 0.0),
             });
         }
         Ok(out)

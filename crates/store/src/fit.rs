@@ -59,6 +59,9 @@ pub struct Column {
     pub x: f64,
     /// The crossing, if the column has one.
     pub beta_star: Option<f64>,
+    /// Its 95% bootstrap interval (where at least half the resamples have a crossing).
+    #[serde(default)]
+    pub beta_ci: Option<[f64; 2]>,
     /// Why the column is not used, if it is not.
     pub skipped: Option<String>,
 }
@@ -120,7 +123,7 @@ fn crossing(points: &[(f64, i64)]) -> Result<f64, NoCrossing> {
 }
 
 /// The columns of `counts` with their crossings; `diff` gives n_walk - n_train of a point.
-fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> Vec<Column> {
+pub(crate) fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> Vec<Column> {
     let mut keys: Vec<(u32, f64, f64)> = Vec::new();
     for c in counts {
         if !keys
@@ -150,6 +153,7 @@ fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> V
                 alpha,
                 x: scales.x(alpha, l, sigma),
                 beta_star,
+                beta_ci: None,
                 skipped,
             }
         })
@@ -157,7 +161,7 @@ fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> V
 }
 
 /// Least squares y = a x + b; (a, b, R^2). Needs two distinct x.
-fn least_squares(xy: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
+pub(crate) fn least_squares(xy: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
     let n = xy.len() as f64;
     if xy.len() < 2 {
         return None;
@@ -181,7 +185,7 @@ fn least_squares(xy: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
     Some((a, b, r2))
 }
 
-fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
+pub(crate) fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
     cols.iter()
         .filter_map(|c| c.beta_star.map(|b| (c.x, b)))
         .collect()
@@ -217,50 +221,68 @@ pub fn fit_line(
     // Bootstrap: redraw every point's replicates from its observed outcome frequencies.
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut as_, mut bs) = (Vec::new(), Vec::new());
+    let mut stars: Vec<Vec<f64>> = vec![Vec::new(); cols.len()];
     for _ in 0..resamples {
-        let diffs: Vec<i64> = counts
-            .iter()
-            .map(|c| {
-                let n = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
-                if n == 0 {
-                    return 0;
-                }
-                let (pt, pw) = (c.n_train as f64 / n as f64, c.n_walk as f64 / n as f64);
-                let mut d = 0i64;
-                for _ in 0..n {
-                    let u: f64 = rng.random();
-                    if u < pt {
-                        d -= 1;
-                    } else if u < pt + pw {
-                        d += 1;
-                    }
-                }
-                d
-            })
-            .collect();
+        let diffs = resample_diffs(counts, &mut rng);
         let cols_b = columns(counts, scales, &|i| diffs[i]);
+        for (k, c) in cols_b.iter().enumerate() {
+            stars[k].extend(c.beta_star);
+        }
         if let Some((ab, bb, _)) = least_squares(&points_of(&cols_b)) {
             as_.push(ab);
             bs.push(bb);
         }
     }
-    let ci = |v: &mut Vec<f64>| -> [f64; 2] {
-        if v.is_empty() {
-            return [f64::NAN, f64::NAN];
+    let mut cols = cols;
+    for (c, mut v) in cols.iter_mut().zip(stars) {
+        if resamples > 0 && 2 * v.len() >= resamples {
+            c.beta_ci = Some(percentile_95(&mut v));
         }
-        v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
-        let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
-        [q(0.025), q(0.975)]
-    };
+    }
     Ok(Fit {
         a,
         b,
-        a_ci: ci(&mut as_),
-        b_ci: ci(&mut bs),
+        a_ci: percentile_95(&mut as_),
+        b_ci: percentile_95(&mut bs),
         r2,
         paper_a: PAPER_A,
         paper_b: PAPER_B,
         bootstrap: resamples,
         columns: cols,
     })
+}
+
+/// One bootstrap resample: each point's n_walk - n_train with its replicates redrawn from its
+/// observed outcome frequencies (n the point's collisions: each point keeps its own n).
+pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64> {
+    counts
+        .iter()
+        .map(|c| {
+            let n = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+            if n == 0 {
+                return 0;
+            }
+            let (pt, pw) = (c.n_train as f64 / n as f64, c.n_walk as f64 / n as f64);
+            let mut d = 0i64;
+            for _ in 0..n {
+                let u: f64 = rng.random();
+                if u < pt {
+                    d -= 1;
+                } else if u < pt + pw {
+                    d += 1;
+                }
+            }
+            d
+        })
+        .collect()
+}
+
+/// The 2.5% and 97.5% percentiles of `v` (NaN for none).
+pub(crate) fn percentile_95(v: &mut [f64]) -> [f64; 2] {
+    if v.is_empty() {
+        return [f64::NAN, f64::NAN];
+    }
+    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
+    [q(0.025), q(0.975)]
 }

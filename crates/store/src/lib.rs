@@ -18,6 +18,7 @@ pub mod lifecycle;
 pub mod phase;
 mod register;
 pub mod schema;
+pub mod shift;
 pub mod slurm;
 pub mod status;
 pub mod store;
@@ -31,6 +32,7 @@ pub use fit::{fit_line, Column, Fit, NoFit, Scales};
 pub use identity::{JobIdentity, PrepIdentity};
 pub use lifecycle::JobState;
 pub use phase::{wilson, Counts, Fraction, Label};
+pub use shift::{measure_shift, Shift};
 pub use slurm::SlurmArray;
 pub use status::{Failure, MeasuredCost, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use store::{

@@ -1,0 +1,152 @@
+//! The shift of the beta_crit line when cell-cell adhesion is removed (the paper's appendix:
+//! sigma = 5 -> 0 moves the line leftward in alpha by 0.0134, whatever L).
+//!
+//! Measured without assuming it: the line beta* = a x(alpha, L) + b is fitted to the
+//! sigma = 5 columns (x = alpha~ / L~, no shift), then the sigma = 0 columns are fitted with
+//! that line moved by one free delta in alpha, beta*(sigma 0) = a x(alpha + delta, L) + b.
+//! With k(L) = dx/dalpha and r = beta* - a x(alpha, L) - b, least squares gives
+//! delta = sum k r / (a sum k^2). The bootstrap redraws the replicates of every point of both
+//! sigmas and refits the three numbers together.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::fit::{columns, least_squares, percentile_95, resample_diffs, Column, Scales};
+use crate::phase::Counts;
+
+/// The paper's shift (its appendix): 0.0134 in alpha from sigma = 5 to sigma = 0.
+pub const PAPER_SHIFT: f64 = 0.0134;
+
+/// The measured shift of the line, sigma = 5 -> 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Shift {
+    /// The sigma = 5 line the shift is measured from.
+    pub a: f64,
+    pub b: f64,
+    /// delta: the sigma = 0 line is the sigma = 5 line moved to smaller alpha by delta.
+    pub delta: f64,
+    pub delta_ci: [f64; 2],
+    pub paper_delta: f64,
+    /// Columns with a crossing used at each sigma.
+    pub columns_sigma5: usize,
+    pub columns_sigma0: usize,
+    pub bootstrap: usize,
+}
+
+/// (a, b, delta) of one set of columns: None without a sigma = 5 line or a sigma = 0 crossing.
+fn solve(cols: &[Column], scales: &Scales) -> Option<(f64, f64, f64)> {
+    // x without any adhesion correction is the sigma = 5 x (the shift is what is measured).
+    let raw = |c: &Column| scales.x(c.alpha, c.L, 5.0);
+    let five: Vec<(f64, f64)> = cols
+        .iter()
+        .filter(|c| c.sigma == 5.0)
+        .filter_map(|c| c.beta_star.map(|b| (raw(c), b)))
+        .collect();
+    let (a, b, _) = least_squares(&five)?;
+    let (mut num, mut den) = (0.0, 0.0);
+    for c in cols.iter().filter(|c| c.sigma == 0.0) {
+        if let Some(star) = c.beta_star {
+            let k = scales.x(1.0, c.L, 5.0) - scales.x(0.0, c.L, 5.0);
+            num += k * (star - a * raw(c) - b);
+            den += k * k;
+        }
+    }
+    (den > 0.0 && a.abs() > 1e-12).then(|| (a, b, num / (a * den)))
+}
+
+/// The shift measured from `counts` (points at sigma 5 and 0, any L; others are ignored),
+/// with `resamples` bootstrap resamples. None when either sigma has too few crossings.
+pub fn measure_shift(
+    counts: &[Counts],
+    scales: &Scales,
+    resamples: usize,
+    seed: u64,
+) -> Option<Shift> {
+    let counts: Vec<Counts> = counts
+        .iter()
+        .filter(|c| c.sigma == 5.0 || c.sigma == 0.0)
+        .cloned()
+        .collect();
+    let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
+    let cols = columns(&counts, scales, &observed);
+    let (a, b, delta) = solve(&cols, scales)?;
+    let used = |s: f64| {
+        cols.iter()
+            .filter(|c| c.sigma == s && c.beta_star.is_some())
+            .count()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut deltas = Vec::new();
+    for _ in 0..resamples {
+        let diffs = resample_diffs(&counts, &mut rng);
+        if let Some((_, _, d)) = solve(&columns(&counts, scales, &|i| diffs[i]), scales) {
+            deltas.push(d);
+        }
+    }
+    Some(Shift {
+        a,
+        b,
+        delta,
+        delta_ci: percentile_95(&mut deltas),
+        paper_delta: PAPER_SHIFT,
+        columns_sigma5: used(5.0),
+        columns_sigma0: used(0.0),
+        bootstrap: resamples,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A column of points at (L, sigma, alpha) whose n_walk - n_train crosses zero exactly at
+    /// `star` (linear interpolation between beta = star -2 and star + 2).
+    fn column(l: u32, sigma: f64, alpha: f64, star: f64) -> Vec<Counts> {
+        [star - 2.0, star + 2.0]
+            .iter()
+            .enumerate()
+            .map(|(k, &beta)| Counts {
+                alpha,
+                beta,
+                L: l,
+                sigma,
+                n_train: if k == 0 { 10 } else { 0 },
+                n_walk: if k == 0 { 0 } else { 10 },
+                n_reversal: 0,
+                n_undetermined: 0,
+                n_unstable: 0,
+                n_breakup: 0,
+                verdict: None,
+                free_speed: None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_line_moved_by_a_known_delta_is_measured_back() {
+        // beta* = 0.6 x - 12 at sigma 5; at sigma 0 the same line at alpha + 0.02.
+        let s = Scales::default();
+        let x = |alpha: f64, l: u32| 2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * alpha
+            / (l as f64 / 40.0);
+        let mut counts = Vec::new();
+        for l in [90, 70] {
+            for alpha in [0.12, 0.16, 0.2] {
+                counts.extend(column(l, 5.0, alpha, 0.6 * x(alpha, l) - 12.0));
+                counts.extend(column(l, 0.0, alpha, 0.6 * x(alpha + 0.02, l) - 12.0));
+            }
+        }
+        let m = measure_shift(&counts, &s, 50, 1).unwrap();
+        assert!((m.a - 0.6).abs() < 1e-9 && (m.b + 12.0).abs() < 1e-6, "{m:?}");
+        assert!((m.delta - 0.02).abs() < 1e-9, "{m:?}");
+        // Every count is 0 or n: the resamples are the data, so is the interval.
+        assert!((m.delta_ci[0] - 0.02).abs() < 1e-9 && (m.delta_ci[1] - 0.02).abs() < 1e-9);
+        assert_eq!((m.columns_sigma5, m.columns_sigma0), (6, 6));
+    }
+
+    #[test]
+    fn no_sigma_zero_crossing_means_no_shift() {
+        let counts = column(90, 5.0, 0.1, 20.0);
+        assert!(measure_shift(&counts, &Scales::default(), 10, 1).is_none());
+    }
+}

@@ -45,6 +45,10 @@ pub enum Command {
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
+    /// One self-contained HTML page to check the paper against: the six diagrams with n per
+    /// point, the beta_crit fit over every spacing and the sigma shift, beta* per column, each
+    /// of the paper's claims with the numbers and a verdict, and provenance.
+    Report(ReportArgs),
     /// Measure the solver on this machine, one core: step rates, one whole trajectory, and the
     /// NumPy yardstick (scripts/numpy_yardstick.py) where Python and NumPy are available.
     Bench(BenchArgs),
@@ -301,6 +305,20 @@ pub struct PlotArgs {
     pub source: CountsSource,
     /// Folder for the pictures (created if missing).
     #[arg(long, value_name = "DIR")]
+    pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// A store: every sweep in it.
+    #[arg(long, value_name = "PATH", required_unless_present = "data", conflicts_with = "data")]
+    pub db: Option<std::path::PathBuf>,
+    /// A folder of `cellsweep export` files (every *.csv in it, e.g. data/paper): no store,
+    /// no recomputation.
+    #[arg(long, value_name = "DIR")]
+    pub data: Option<std::path::PathBuf>,
+    /// The HTML file to write.
+    #[arg(long, value_name = "FILE.html")]
     pub out: std::path::PathBuf,
 }
 

@@ -6,21 +6,15 @@ use anyhow::{bail, Context};
 use cellsweep_scheduler::Ledger;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::adaptive::{assess, kinds, PointEnds};
-use cellsweep_store::{Assessment, Counts, End, Label, Scales, Store};
+use cellsweep_report::{Provenance, Results};
+use cellsweep_scheduler::Sweep;
+use cellsweep_store::export::ExportRow;
+use cellsweep_store::{Counts, End, Label, Scales, Store};
 
 use crate::cli::CountsSource;
 
-/// Counts of every point, and the scales (R0, d) of the model they came from.
-pub struct Loaded {
-    pub name: String,
-    pub counts: Vec<Counts>,
-    pub scales: Scales,
-    /// An adaptive sweep's standing of each point, beside `counts`.
-    pub standings: Option<Vec<Assessment>>,
-    /// The free speed of each of a point's distinct prepped cells, beside `counts`, where the
-    /// source has them one by one (an export); a store and a counts file give the mean only.
-    pub prep_speeds: Option<Vec<Vec<f64>>>,
-}
+/// Counts of every point, with their source's provenance where it has one.
+pub type Loaded = Results;
 
 pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
     if let Some(path) = &src.data {
@@ -33,6 +27,7 @@ pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
             scales: Scales::default(),
             standings: None,
             prep_speeds: None,
+            provenance: None,
         }),
         None => from_store(&src.db, src.sweep.as_deref()),
     }
@@ -83,12 +78,17 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
         })
         .collect();
     let standings = Ledger::load(&store, id, SOLVER_VERSION)?.assess(&store)?;
+    let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?)
+        .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;
+    let defaults = serde_json::to_value(Params::default())?;
+    let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
     Ok(Loaded {
         name,
         counts,
         scales,
         standings,
         prep_speeds: None,
+        provenance: Some(provenance(&db.display().to_string(), &sweep, &rows)),
     })
 }
 
@@ -194,7 +194,47 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
                 .map(|p| p.into_iter().map(|s| s.1).collect())
                 .collect(),
         ),
+        provenance: Some(provenance(&path.display().to_string(), &sweep, &rows)),
     })
+}
+
+/// What the sweep is and what its finished rows cost (each prep's time counted once).
+fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Provenance {
+    let mut versions: Vec<String> = Vec::new();
+    let mut preps: Vec<u64> = Vec::new();
+    let (mut collision_s, mut prep_s, mut untimed, mut collisions) = (0.0, 0.0, 0, 0);
+    for r in rows {
+        if !versions.contains(&r.solver_version) {
+            versions.push(r.solver_version.clone());
+        }
+        if r.collision_steps > 0 {
+            collisions += 1;
+            match r.wall_s {
+                Some(w) => collision_s += w,
+                None => untimed += 1,
+            }
+        }
+        if !preps.contains(&r.prep_seed) {
+            preps.push(r.prep_seed);
+            prep_s += r.prep_wall_s.unwrap_or(0.0);
+        }
+    }
+    Provenance {
+        source: source.to_string(),
+        seed: sweep.seed,
+        two_fibers: sweep.params.geometry == cellsweep_solver::Geometry::Two,
+        replicates: sweep.replicates,
+        preps_per_point: sweep.preps_per_point,
+        adaptive: sweep.adaptive,
+        precision: sweep.protocol.precision.as_str().to_string(),
+        collide_time: sweep.protocol.collide_time,
+        solver_versions: versions,
+        rows: rows.len() as u64,
+        collisions,
+        collision_s,
+        prep_s,
+        untimed,
+    }
 }
 
 /// Most replicates one point of a counts file may hold (a bound that keeps sums exact).

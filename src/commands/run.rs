@@ -183,7 +183,7 @@ fn summarize(
     super::status::print_point_counts(store, sweep_id, &sweep.name)?;
     let loaded = super::counts::from_store(&args.db.db, Some(&sweep.name))?;
     println!();
-    for (l, sigma) in super::table::diagrams(&loaded.counts) {
+    for (l, sigma) in cellsweep_report::figures::diagrams(&loaded.counts) {
         println!("{}", super::table::grid_text(&loaded.counts, l, sigma));
     }
     println!("{}", super::table::LEGEND);

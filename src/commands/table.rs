@@ -9,17 +9,7 @@ use serde_json::json;
 use super::counts;
 use crate::cli::{Format, TableArgs};
 
-/// The (L, sigma) diagrams present in `counts`, in order.
-pub fn diagrams(counts: &[Counts]) -> Vec<(u32, f64)> {
-    let mut keys: Vec<(u32, f64)> = Vec::new();
-    for c in counts {
-        if !keys.contains(&(c.L, c.sigma)) {
-            keys.push((c.L, c.sigma));
-        }
-    }
-    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.partial_cmp(&a.1).expect("finite")));
-    keys
-}
+pub use cellsweep_report::figures::diagrams;
 
 /// Sorted distinct values.
 pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {

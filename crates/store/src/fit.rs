@@ -201,23 +201,6 @@ pub fn fit_line(
     let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
     let cols = columns(counts, scales, &observed);
     let xy = points_of(&cols);
-    let distinct: Vec<f64> = xy.iter().fold(Vec::new(), |mut v, p| {
-        if !v.contains(&p.0) {
-            v.push(p.0)
-        }
-        v
-    });
-    let Some((a, b, r2)) = least_squares(&xy).filter(|_| distinct.len() >= 2) else {
-        return Err(NoFit {
-            reason: format!(
-                "{} of {} columns have a walk-past/training crossing, at {} distinct alpha~/L~; a line needs two",
-                xy.len(),
-                cols.len(),
-                distinct.len()
-            ),
-            columns: cols,
-        });
-    };
     // Bootstrap: redraw every point's replicates from its observed outcome frequencies.
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut as_, mut bs) = (Vec::new(), Vec::new());
@@ -239,6 +222,23 @@ pub fn fit_line(
             c.beta_ci = Some(percentile_95(&mut v));
         }
     }
+    let distinct: Vec<f64> = xy.iter().fold(Vec::new(), |mut v, p| {
+        if !v.contains(&p.0) {
+            v.push(p.0)
+        }
+        v
+    });
+    let Some((a, b, r2)) = least_squares(&xy).filter(|_| distinct.len() >= 2) else {
+        return Err(NoFit {
+            reason: format!(
+                "{} of {} columns have a walk-past/training crossing, at {} distinct alpha~/L~; a line needs two",
+                xy.len(),
+                cols.len(),
+                distinct.len()
+            ),
+            columns: cols,
+        });
+    };
     Ok(Fit {
         a,
         b,

@@ -1,0 +1,59 @@
+//! The numbers a report states, computed once: beta* per column of each diagram with its
+//! bootstrap interval, the line over all spacings at sigma = 5 and at sigma = 0, and the
+//! measured shift of the line between the two.
+
+use cellsweep_store::{fit_line, measure_shift, Column, Fit, NoFit, Shift};
+
+use crate::collection::{Collection, DiagramKey};
+use crate::Results;
+
+/// Bootstrap resamples of every interval in a report (seeded: a report is reproducible).
+pub const RESAMPLES: usize = 1000;
+const SEED: u64 = 1;
+
+/// Everything a report states, from its results.
+#[derive(Debug, Clone)]
+pub struct Analysis<'a> {
+    pub collection: Collection<'a>,
+    /// Per diagram: its columns (beta* with interval, or why none) and its own line, if one.
+    pub per_diagram: Vec<(DiagramKey, Vec<Column>, Option<Fit>)>,
+    /// The line over all spacings at sigma = 5 (the paper's global fit) and at sigma = 0.
+    pub fit5: Result<Fit, NoFit>,
+    pub fit0: Result<Fit, NoFit>,
+    pub shift: Option<Shift>,
+}
+
+impl<'a> Analysis<'a> {
+    pub fn of(all: &'a [Results]) -> Analysis<'a> {
+        let collection = Collection::of(all);
+        let per_diagram = collection
+            .diagrams
+            .iter()
+            .map(|s| {
+                let counts: Vec<_> = s.counts().cloned().collect();
+                match fit_line(&counts, &s.results.scales, RESAMPLES, SEED) {
+                    Ok(f) => (s.key, f.columns.clone(), Some(f)),
+                    Err(no) => (s.key, no.columns, None),
+                }
+            })
+            .collect();
+        let (c5, scales5) = collection.counts_at(Some(5.0));
+        let (c0, scales0) = collection.counts_at(Some(0.0));
+        let (call, scales) = collection.counts_at(None);
+        Analysis {
+            fit5: fit_line(&c5, &scales5, RESAMPLES, SEED),
+            fit0: fit_line(&c0, &scales0, RESAMPLES, SEED),
+            shift: measure_shift(&call, &scales, RESAMPLES, SEED),
+            per_diagram,
+            collection,
+        }
+    }
+
+    /// The columns of diagram (L, sigma), if it is shown.
+    pub fn columns(&self, l: u32, sigma: f64) -> Option<&[Column]> {
+        self.per_diagram
+            .iter()
+            .find(|(k, _, _)| k.L == l && k.sigma == sigma)
+            .map(|(_, c, _)| c.as_slice())
+    }
+}

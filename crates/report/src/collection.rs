@@ -1,0 +1,178 @@
+//! Results sorted into what the paper shows: six (L, sigma) phase diagrams on two fibers, the
+//! free speed against beta (several free-motion cells per point), and the spindle check (one
+//! fiber).
+
+use cellsweep_store::{Counts, Scales};
+
+use crate::Results;
+
+/// One of the paper's phase diagrams.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(non_snake_case)]
+pub struct DiagramKey {
+    pub L: u32,
+    pub sigma: f64,
+}
+
+impl DiagramKey {
+    /// The paper's figure of this diagram (main text or appendix), if it has one.
+    pub fn paper_figure(self) -> Option<&'static str> {
+        Some(match (self.L, self.sigma as i64) {
+            (90, 5) => "Fig. 3",
+            (70, 5) => "Fig. 4",
+            (90, 0) => "Fig. 5",
+            (80, 5) => "Fig. A1",
+            (70, 0) => "Fig. A2",
+            (80, 0) => "Fig. A3",
+            _ => return None,
+        })
+    }
+
+    pub fn title(self) -> String {
+        format!("L = {}, σ = {}", self.L, self.sigma)
+    }
+}
+
+/// The paper's six diagrams, in its order of discussion.
+pub const PAPER_DIAGRAMS: [DiagramKey; 6] = [
+    DiagramKey { L: 90, sigma: 5.0 },
+    DiagramKey { L: 80, sigma: 5.0 },
+    DiagramKey { L: 70, sigma: 5.0 },
+    DiagramKey { L: 90, sigma: 0.0 },
+    DiagramKey { L: 80, sigma: 0.0 },
+    DiagramKey { L: 70, sigma: 0.0 },
+];
+
+/// A diagram and the results that show it.
+#[derive(Debug, Clone)]
+pub struct Shown<'a> {
+    pub key: DiagramKey,
+    pub results: &'a Results,
+    /// The diagram's points within `results`, by index.
+    pub points: Vec<usize>,
+}
+
+impl Shown<'_> {
+    pub fn counts(&self) -> impl Iterator<Item = &Counts> {
+        self.points.iter().map(|&i| &self.results.counts[i])
+    }
+
+    /// Replicates with a result, and of them the ones that collided.
+    pub fn replicates(&self) -> (u64, u64) {
+        self.counts().fold((0, 0), |(n, k), c| {
+            let collided = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+            (n + c.total(), k + collided)
+        })
+    }
+}
+
+/// Every result set of a report, sorted by role.
+#[derive(Debug, Clone)]
+pub struct Collection<'a> {
+    /// One result set per (L, sigma) diagram on two fibers (the one with most replicates
+    /// where several show the same diagram), in the order of [`PAPER_DIAGRAMS`], other
+    /// diagrams after.
+    pub diagrams: Vec<Shown<'a>>,
+    /// The spindle check: a sweep on one fiber.
+    pub spindle: Option<&'a Results>,
+    /// The speed figure: a sweep with several prepped cells per point.
+    pub speed: Option<&'a Results>,
+    /// Result sets not shown, and why.
+    pub unused: Vec<(&'a Results, String)>,
+}
+
+impl<'a> Collection<'a> {
+    pub fn of(all: &'a [Results]) -> Collection<'a> {
+        let mut c = Collection {
+            diagrams: Vec::new(),
+            spindle: None,
+            speed: None,
+            unused: Vec::new(),
+        };
+        let mut bigger = |slot: &mut Option<&'a Results>, r: &'a Results, role: &str| {
+            match slot {
+                Some(old) if old.counts.iter().map(Counts::total).sum::<u64>()
+                    >= r.counts.iter().map(Counts::total).sum::<u64>() =>
+                {
+                    c.unused
+                        .push((r, format!("another {role} sweep has more replicates")))
+                }
+                _ => {
+                    if let Some(old) = slot.replace(r) {
+                        c.unused
+                            .push((old, format!("another {role} sweep has more replicates")));
+                    }
+                }
+            }
+        };
+        let mut diagram_sets: Vec<&'a Results> = Vec::new();
+        for r in all {
+            match &r.provenance {
+                Some(p) if !p.two_fibers => bigger(&mut c.spindle, r, "one-fiber"),
+                Some(p) if p.preps_per_point > 1 => bigger(&mut c.speed, r, "speed"),
+                _ => diagram_sets.push(r),
+            }
+        }
+        let mut keys: Vec<DiagramKey> = PAPER_DIAGRAMS.to_vec();
+        for r in &diagram_sets {
+            for k in r.counts.iter() {
+                let key = DiagramKey {
+                    L: k.L,
+                    sigma: k.sigma,
+                };
+                if !keys.contains(&key) {
+                    keys.push(key);
+                }
+            }
+        }
+        for key in keys {
+            let best = diagram_sets
+                .iter()
+                .map(|r| {
+                    let points: Vec<usize> = (0..r.counts.len())
+                        .filter(|&i| r.counts[i].L == key.L && r.counts[i].sigma == key.sigma)
+                        .collect();
+                    Shown {
+                        key,
+                        results: r,
+                        points,
+                    }
+                })
+                .filter(|s| !s.points.is_empty())
+                .max_by_key(|s| s.replicates().0);
+            if let Some(s) = best {
+                c.diagrams.push(s);
+            }
+        }
+        for r in diagram_sets {
+            if !c.diagrams.iter().any(|s| std::ptr::eq(s.results, r)) {
+                c.unused
+                    .push((r, "another sweep shows its diagrams with more replicates".into()));
+            }
+        }
+        c
+    }
+
+    /// The diagram (L, sigma), if a result set shows it.
+    pub fn diagram(&self, l: u32, sigma: f64) -> Option<&Shown<'a>> {
+        self.diagrams
+            .iter()
+            .find(|s| s.key.L == l && s.key.sigma == sigma)
+    }
+
+    /// Every shown point at `sigma` (all L), with the scales of the first set: what the fit
+    /// over all spacings reads.
+    pub fn counts_at(&self, sigma: Option<f64>) -> (Vec<Counts>, Scales) {
+        let mut out = Vec::new();
+        let mut scales = None;
+        for s in self
+            .diagrams
+            .iter()
+            .filter(|s| sigma.is_none_or(|v| s.key.sigma == v))
+        {
+            scales.get_or_insert(s.results.scales);
+            out.extend(s.counts().cloned());
+        }
+        (out, scales.unwrap_or_default())
+    }
+}

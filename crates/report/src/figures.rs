@@ -1,0 +1,262 @@
+//! Counts into drawings: one (L, sigma) phase diagram with its four panels, and the free speed
+//! against beta. `cellsweep plot` writes them as files, `cellsweep report` inline.
+
+use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
+use cellsweep_plot::{Color, Figure};
+use cellsweep_store::{
+    fit::PAPER_A, fit::PAPER_B, wilson, Assessment, Counts, Fit, Label, Scales, Standing,
+};
+
+use crate::Results;
+
+/// The plot symbol of a label.
+pub fn mark(l: Label) -> Mark {
+    match l {
+        Label::Train => Mark::Train,
+        Label::WalkPast => Mark::WalkPast,
+        Label::Reversal => Mark::Reversal,
+        Label::Coexist => Mark::Coexist,
+        Label::Unstable => Mark::Unstable,
+        Label::Breakup => Mark::Breakup,
+        Label::Undetermined => Mark::Undetermined,
+        Label::Mixed => Mark::Mixed,
+    }
+}
+
+/// beta = a x(alpha) + b as a line in the (alpha, beta) plane of diagram (L, sigma).
+pub fn beta_line(
+    scales: &Scales,
+    (a, b): (f64, f64),
+    (spacing, sigma): (u32, f64),
+    label: String,
+    color: Color,
+) -> BetaLine {
+    let x0 = scales.x(0.0, spacing, sigma);
+    let x1 = scales.x(1.0, spacing, sigma);
+    BetaLine {
+        label,
+        color,
+        slope: a * (x1 - x0),
+        intercept: a * x0 + b,
+    }
+}
+
+/// The (L, sigma) diagrams of `counts`, widest spacing and largest sigma first.
+pub fn diagrams(counts: &[Counts]) -> Vec<(u32, f64)> {
+    let mut keys: Vec<(u32, f64)> = Vec::new();
+    for c in counts {
+        if !keys.contains(&(c.L, c.sigma)) {
+            keys.push((c.L, c.sigma));
+        }
+    }
+    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.partial_cmp(&a.1).expect("finite")));
+    keys
+}
+
+/// The adaptive assessment of point `i` of `results`, if the sweep is adaptive.
+pub fn assessment(results: &Results, i: usize) -> Option<&Assessment> {
+    results.standings.as_ref().and_then(|st| st.get(i))
+}
+
+/// Diagram (L, sigma) of `results` with the paper's line and, if given, a fitted one.
+pub fn diagram(results: &Results, (l, sigma): (u32, f64), fit: Option<&Fit>) -> Diagram {
+    let points = results
+        .counts
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.L == l && c.sigma == sigma)
+        .map(|(i, c)| {
+            let n = (c.n_train + c.n_walk + c.n_reversal + c.n_undetermined) as f64;
+            let f = |k: u64| {
+                if c.collided() && n > 0.0 {
+                    k as f64 / n
+                } else {
+                    f64::NAN
+                }
+            };
+            let a = assessment(results, i);
+            Point {
+                alpha: c.alpha,
+                beta: c.beta,
+                mark: c.label().map(mark),
+                freq: [f(c.n_train), f(c.n_walk), f(c.n_reversal)],
+                n: c.total(),
+                open: a.is_some_and(|a| a.standing == Standing::Open),
+                detail: detail(c, a),
+            }
+        })
+        .collect();
+    let mut lines = vec![beta_line(
+        &results.scales,
+        (PAPER_A, PAPER_B),
+        (l, sigma),
+        "paper\u{2019}s β_{crit}".into(),
+        Color::BLACK,
+    )];
+    if let Some(fit) = fit {
+        lines.push(beta_line(
+            &results.scales,
+            (fit.a, fit.b),
+            (l, sigma),
+            format!("fit: a = {:.2}, b = {:.1}", fit.a, fit.b),
+            Color::ORANGE,
+        ));
+    }
+    Diagram {
+        title: format!(
+            "{}: L = {l} ({} µm), σ = {sigma}",
+            results.name,
+            l as f64 * cellsweep_plot::frames::SITE_UM
+        ),
+        points,
+        lines,
+    }
+}
+
+/// The four-panel figure of diagram (L, sigma).
+pub fn diagram_of(results: &Results, key: (u32, f64), fit: Option<&Fit>) -> Figure {
+    diagram_figure(&diagram(results, key, fit))
+}
+
+/// Free speed against beta, one curve per (L, alpha) (sigma does not change the prep), with
+/// the standard error over a point's prepped cells where there are several.
+pub fn speed_series(results: &Results) -> Vec<Series> {
+    let palette = [
+        Color::BLUE,
+        Color::RED,
+        Color::GREEN,
+        Color::ORANGE,
+        Color::CYAN,
+        Color(120, 60, 160),
+        Color::GREY,
+        Color::BLACK,
+    ];
+    let mut keys: Vec<(u32, f64)> = Vec::new();
+    for c in &results.counts {
+        if c.free_speed.is_some() && !keys.contains(&(c.L, c.alpha)) {
+            keys.push((c.L, c.alpha));
+        }
+    }
+    keys.iter()
+        .enumerate()
+        .map(|(k, &(l, alpha))| {
+            let mut points: Vec<(f64, f64)> = Vec::new();
+            let mut errors: Vec<f64> = Vec::new();
+            for (i, c) in results.counts.iter().enumerate() {
+                if c.L != l || c.alpha != alpha || points.iter().any(|p| p.0 == c.beta) {
+                    continue;
+                }
+                if let Some(v) = c.free_speed {
+                    points.push((c.beta, v));
+                    let cells = results.prep_speeds.as_ref().map_or(&[][..], |s| &s[i][..]);
+                    errors.push(standard_error(cells));
+                }
+            }
+            let several = errors.iter().any(|e| e.is_finite());
+            Series {
+                label: format!("L = {l}, α = {alpha}"),
+                color: palette[k % palette.len()],
+                points,
+                errors: if several { errors } else { Vec::new() },
+            }
+        })
+        .collect()
+}
+
+/// The free-speed figure of `results`.
+pub fn speed_of(results: &Results) -> Figure {
+    let series = speed_series(results);
+    let title = if series.iter().any(|s| !s.errors.is_empty()) {
+        format!(
+            "{}: mean free speed of the prepped cells ± standard error",
+            results.name
+        )
+    } else {
+        format!("{}: free speed of the prepped cell", results.name)
+    };
+    speed_figure(&title, &series)
+}
+
+/// A point's tooltip: where it is, its counts, its label, and its adaptive standing.
+pub fn detail(c: &Counts, a: Option<&Assessment>) -> String {
+    let mut out = format!(
+        "α = {}, β = {}, L = {}, σ = {}: n = {} (training {}, walk-past {}, reversal {}, \
+         undetermined {}",
+        c.alpha,
+        c.beta,
+        c.L,
+        c.sigma,
+        c.total(),
+        c.n_train,
+        c.n_walk,
+        c.n_reversal,
+        c.n_undetermined
+    );
+    if c.n_unstable + c.n_breakup > 0 {
+        out += &format!(", unstable {}, breakup {}", c.n_unstable, c.n_breakup);
+    }
+    out += ")";
+    let collided = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+    if collided > 0 {
+        let f = |k: u64| {
+            let w = wilson(k, collided);
+            format!("{:.2} [{:.2}, {:.2}]", w.value, w.low, w.high)
+        };
+        out += &format!(
+            "; fractions with 95% Wilson intervals: training {}, walk-past {}, reversal {}",
+            f(c.n_train),
+            f(c.n_walk),
+            f(c.n_reversal)
+        );
+    }
+    if let Some(label) = c.label() {
+        out += &format!("; label {}", label.as_str());
+    }
+    if let Some(a) = a {
+        out += &format!("; adaptive: {}", a.standing.as_str());
+        if let Some(b) = &a.bounds {
+            out += &format!(
+                "; bounds at the stated error: p_train [{:.2}, {:.2}], p_walk [{:.2}, {:.2}], \
+                 p_walk - p_train [{:.2}, {:.2}]",
+                b.train[0],
+                b.train[1],
+                b.walk_past[0],
+                b.walk_past[1],
+                b.walk_minus_train[0],
+                b.walk_minus_train[1]
+            );
+        }
+    }
+    out
+}
+
+/// The mean of `xs` and its standard error (NaN error for fewer than two).
+pub fn mean_and_error(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len() as f64;
+    let mean = xs.iter().sum::<f64>() / n;
+    (mean, standard_error(xs))
+}
+
+/// The standard error of the mean of `xs` (NaN for fewer than two).
+pub fn standard_error(xs: &[f64]) -> f64 {
+    let n = xs.len() as f64;
+    if xs.len() < 2 {
+        return f64::NAN;
+    }
+    let mean = xs.iter().sum::<f64>() / n;
+    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (var / n).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::standard_error;
+
+    #[test]
+    fn the_standard_error_is_of_the_mean() {
+        // Sample sd of 1, 2, 3, 4 is sqrt(5/3); over sqrt(4).
+        let se = standard_error(&[1.0, 2.0, 3.0, 4.0]);
+        assert!((se - (5.0f64 / 3.0).sqrt() / 2.0).abs() < 1e-12);
+        assert!(standard_error(&[1.0]).is_nan());
+    }
+}

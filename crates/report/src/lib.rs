@@ -1,0 +1,69 @@
+//! # cellsweep-report
+//!
+//! The paper's results read off a sweep's counts: the figures of `cellsweep plot`, the paper's
+//! claims checked one by one, and the one self-contained HTML page of `cellsweep report`.
+//!
+//! Main types: [`Results`] (one sweep's counts, standings and [`Provenance`], from a store or an
+//! export), [`Collection`] (results sorted into the paper's six diagrams, the speed figure and
+//! the spindle check), [`claims::Claim`] with its [`claims::Verdict`], and [`Report`], which
+//! [`Report::to_html`] writes. [`figures`] turns counts into the drawings of `cellsweep-plot`.
+
+pub mod analysis;
+pub mod claims;
+pub mod collection;
+pub mod figures;
+pub mod html;
+
+use cellsweep_store::{AdaptiveRule, Assessment, Counts, Scales};
+
+pub use collection::{Collection, DiagramKey};
+pub use html::render;
+
+/// One sweep's results, as every reader of them sees them (table, fit, plot, report).
+#[derive(Debug, Clone)]
+pub struct Results {
+    pub name: String,
+    pub counts: Vec<Counts>,
+    pub scales: Scales,
+    /// An adaptive sweep's standing of each point, beside `counts`.
+    pub standings: Option<Vec<Assessment>>,
+    /// The free speed of each of a point's distinct prepped cells, beside `counts`, where the
+    /// source has them one by one (an export); a store and a counts file give the mean only.
+    pub prep_speeds: Option<Vec<Vec<f64>>>,
+    /// Where the results came from and what they cost (absent for a counts file).
+    pub provenance: Option<Provenance>,
+}
+
+/// What a sweep is and what running it cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Provenance {
+    /// The export file or store read.
+    pub source: String,
+    pub seed: u64,
+    /// One fiber or two.
+    pub two_fibers: bool,
+    /// The budget of replicates per point.
+    pub replicates: u32,
+    pub preps_per_point: u32,
+    pub adaptive: Option<AdaptiveRule>,
+    /// "f32" or "f64" collisions.
+    pub precision: String,
+    /// tau0 of each collision.
+    pub collide_time: f64,
+    pub solver_versions: Vec<String>,
+    /// Finished replicates, and of them the ones that ran a collision.
+    pub rows: u64,
+    pub collisions: u64,
+    /// Seconds of collisions and of preps on their workers, over the rows that recorded them.
+    pub collision_s: f64,
+    pub prep_s: f64,
+    /// Rows without a recorded wall time (imported from an export of format 1).
+    pub untimed: u64,
+}
+
+impl Provenance {
+    /// Core-hours recorded (collisions and preps).
+    pub fn core_hours(&self) -> f64 {
+        (self.collision_s + self.prep_s) / 3600.0
+    }
+}

@@ -1,0 +1,57 @@
+//! `cellsweep report`: the paper's results and claims as one self-contained HTML page.
+
+use anyhow::{bail, Context};
+use cellsweep_store::Store;
+
+use super::counts;
+use crate::cli::ReportArgs;
+
+pub fn run(args: ReportArgs) -> anyhow::Result<()> {
+    let results = match (&args.db, &args.data) {
+        (Some(db), _) => {
+            let names = Store::open_read(db)?.sweep_names()?;
+            if names.is_empty() {
+                bail!("no sweeps in {}", db.display());
+            }
+            names
+                .iter()
+                .map(|n| counts::from_store(db, Some(n)))
+                .collect::<anyhow::Result<Vec<_>>>()?
+        }
+        (None, Some(dir)) => {
+            let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+                .with_context(|| format!("cannot read the folder {}", dir.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "csv") && p.is_file())
+                .collect();
+            files.sort();
+            if files.is_empty() {
+                bail!("{}: no export files (*.csv) in this folder", dir.display());
+            }
+            files
+                .iter()
+                .map(|f| counts::from_export(f))
+                .collect::<anyhow::Result<Vec<_>>>()?
+        }
+        (None, None) => bail!("report needs --db PATH or --data DIR"),
+    };
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() as i64);
+    let html = cellsweep_report::render(&results, &cellsweep_report::html::utc_stamp(now));
+    let out = &args.out;
+    let tmp = out.with_extension("html.tmp");
+    std::fs::write(&tmp, html).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, out).with_context(|| format!("cannot write {}", out.display()))?;
+    println!(
+        "wrote {} ({} sweeps: {})",
+        out.display(),
+        results.len(),
+        results
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}

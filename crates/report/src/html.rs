@@ -439,14 +439,16 @@ fn provenance_section(h: &mut String, all: &[Results], an: &Analysis<'_>, genera
                     ),
                     None => format!("{} fixed", p.replicates),
                 };
-                let hours = if p.untimed > 0 {
-                    format!(
-                        "{:.2} (+ {} collisions imported without times)",
-                        p.core_hours(),
-                        p.untimed
-                    )
+                let ch = p.core_hours();
+                let ch = if ch >= 0.1 {
+                    format!("{ch:.2}")
                 } else {
-                    format!("{:.2}", p.core_hours())
+                    format!("{ch:.4}")
+                };
+                let hours = if p.untimed > 0 {
+                    format!("{ch} (+ {} collisions imported without times)", p.untimed)
+                } else {
+                    ch
                 };
                 let _ = writeln!(
                     h,

@@ -1,0 +1,238 @@
+//! `cellsweep report`: one self-contained HTML page, from a store or from exports, checked in
+//! a real headless browser (Debian's chromium; `.ci/run` installs it).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::{workdir, write_sweep};
+
+fn cellsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn ok(out: &Output) -> String {
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text
+}
+
+/// A page that loads nothing from anywhere: no script, no external reference of any kind.
+fn assert_self_contained(html: &str) {
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    assert!(html.trim_end().ends_with("</html>"));
+    for bad in ["<script", "src=", "<link", "url(", "@import", "<iframe"] {
+        assert!(!html.contains(bad), "the report contains {bad:?}");
+    }
+    // Every http(s) address is an SVG namespace, not something to fetch.
+    for (i, _) in html.match_indices("http") {
+        let rest = &html[i..];
+        assert!(
+            rest.starts_with("http://www.w3.org/2000/svg"),
+            "an address in the report: {}",
+            &rest[..rest.len().min(60)]
+        );
+    }
+}
+
+/// The headless browser of this machine: chromium (Debian), or `CELLSWEEP_BROWSER`.
+fn browser() -> Option<PathBuf> {
+    if let Some(b) = std::env::var_os("CELLSWEEP_BROWSER") {
+        return Some(b.into());
+    }
+    ["/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"]
+        .iter()
+        .map(PathBuf::from)
+        .find(|p| p.exists())
+}
+
+/// Load `page` headless: (the DOM it built, the console messages it logged, a screenshot).
+fn load(browser: &Path, page: &Path, shot: &Path) -> (String, Vec<String>) {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let common = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--enable-logging=stderr",
+        "--v=0",
+    ];
+    let dom = Command::new(browser)
+        .args(common)
+        .arg("--dump-dom")
+        .arg(&url)
+        .output()
+        .unwrap();
+    assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
+    let console: Vec<String> = String::from_utf8_lossy(&dom.stderr)
+        .lines()
+        .filter(|l| l.contains("CONSOLE"))
+        .map(String::from)
+        .collect();
+    let out = Command::new(browser)
+        .args(common)
+        .arg("--window-size=1400,4000")
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(&url)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    (String::from_utf8_lossy(&dom.stdout).to_string(), console)
+}
+
+fn browser_or_explain() -> Option<PathBuf> {
+    let b = browser();
+    if b.is_none() {
+        assert!(
+            std::env::var_os("CELLSWEEP_SKIP_BROWSER").is_some(),
+            "no headless browser: install Debian's chromium (apt-get install chromium), point \
+             CELLSWEEP_BROWSER at one, or set CELLSWEEP_SKIP_BROWSER=1 to skip this check"
+        );
+    }
+    b
+}
+
+#[test]
+fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_browser() {
+    let dir = workdir("report", "data");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/paper");
+    // A folder whose name is markup and a shell substitution: shown as text, never as markup.
+    let odd = dir.join("d'<b>$(touch x)\"");
+    std::fs::create_dir_all(&odd).unwrap();
+    for f in std::fs::read_dir(&data).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(&f, odd.join(f.file_name().unwrap())).unwrap();
+    }
+    let page = dir.join("report.html");
+    let text = ok(&cellsweep(&[
+        "report",
+        "--data",
+        odd.to_str().unwrap(),
+        "--out",
+        page.to_str().unwrap(),
+    ]));
+    assert!(text.contains("adaptive-L90-sigma5"), "{text}");
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert_self_contained(&html);
+    assert!(!html.contains("<b>$(touch"), "an unescaped folder name");
+    assert!(html.contains("d&#39;&lt;b&gt;$(touch x)&quot;"));
+    assert!(!dir.join("x").exists());
+    // What a reader needs: the claims with verdicts, the fit beside the paper's, the diagram
+    // drawn inline, and where every number came from.
+    for need in [
+        "The paper's claims",
+        "almost always form a train",
+        "class=\"verdict reproduced\"",
+        "a = 0.6, b = −12",
+        "β* per column",
+        "<svg xmlns=\"http://www.w3.org/2000/svg\"",
+        "(a) outcome",
+        "Provenance",
+        "cellsweep-solver",
+    ] {
+        assert!(html.contains(need), "the report lacks {need:?}");
+    }
+    // The diagrams not in the data are named with the command that makes them.
+    assert!(html.contains("cellsweep run sweeps/adaptive/L70-sigma0.toml") || html.matches("<figure>").count() >= 6);
+
+    let Some(b) = browser_or_explain() else {
+        return;
+    };
+    let shot = dir.join("report.png");
+    let (dom, console) = load(&b, &page, &shot);
+    assert!(console.is_empty(), "console messages: {console:#?}");
+    assert!(dom.contains("The paper's claims"), "the browser built no page");
+    assert!(dom.contains("<svg") && dom.contains("(a) outcome"), "the figures did not load");
+    let png = std::fs::read(&shot).unwrap();
+    assert!(png.starts_with(b"\x89PNG") && png.len() > 50_000, "{} bytes", png.len());
+
+    // The console check can fail: a page that logs an error is caught.
+    let bad = dir.join("bad.html");
+    std::fs::write(
+        &bad,
+        "<!DOCTYPE html><html><body><script>console.error('broken')</script></body></html>",
+    )
+    .unwrap();
+    let (_, console) = load(&b, &bad, &dir.join("bad.png"));
+    assert!(
+        console.iter().any(|l| l.contains("broken")),
+        "the browser's console is not seen: {console:?}"
+    );
+}
+
+#[test]
+fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
+    let dir = workdir("report", "store");
+    let sweep = write_sweep(&dir, "rep", 2, "");
+    let db = dir.join("r.sqlite");
+    ok(&cellsweep(&[
+        "run",
+        sweep.to_str().unwrap(),
+        "--db",
+        db.to_str().unwrap(),
+        "--workers",
+        "2",
+    ]));
+    let page = dir.join("r.html");
+    ok(&cellsweep(&[
+        "report",
+        "--db",
+        db.to_str().unwrap(),
+        "--out",
+        page.to_str().unwrap(),
+    ]));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert_self_contained(&html);
+    // Its diagrams are not the paper's: drawn apart, the paper's six named as not run.
+    assert!(html.contains("L = 48, σ = 5 (not one of the paper's)"), "{html}");
+    assert!(html.contains("L = 48, σ = 0 (not one of the paper's)"));
+    assert!(html.contains("Not run yet: <code>cellsweep run sweeps/adaptive/L90-sigma5.toml</code>"));
+    assert!(html.contains("no data yet"));
+    // Provenance: the sweep, its 8 replicates and their recorded core-hours.
+    let row = html
+        .lines()
+        .find(|l| l.starts_with("<tr><td>rep</td>"))
+        .expect("a provenance row for the sweep");
+    assert!(row.contains("<td class=\"num\">8</td>"), "{row}");
+    let hours: f64 = row
+        .split("<td class=\"num\">")
+        .nth(4)
+        .and_then(|c| c.split('<').next())
+        .and_then(|c| c.parse().ok())
+        .expect("core-hours");
+    assert!(hours > 0.0, "{row}");
+
+    // Bad sources: one line naming the problem, non-zero exit, no page written.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    std::fs::write(empty.join("notes.txt"), "x").unwrap();
+    let junk = dir.join("junk");
+    std::fs::create_dir_all(&junk).unwrap();
+    std::fs::write(junk.join("a.csv"), "alpha,beta\n0.1,10\n").unwrap();
+    let out = dir.join("never.html");
+    for (args, says) in [
+        (vec!["--data", empty.to_str().unwrap()], "no export files"),
+        (vec!["--data", junk.to_str().unwrap()], "a.csv: line 1: not a cellsweep export"),
+        (vec!["--data", "/no/such/dir"], "cannot read the folder /no/such/dir"),
+        (vec!["--db", "/no/such.sqlite"], "/no/such.sqlite"),
+    ] {
+        let mut a = vec!["report"];
+        a.extend(args);
+        a.extend(["--out", out.to_str().unwrap()]);
+        let r = cellsweep(&a);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{a:?}");
+        assert!(err.contains(says), "{a:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{a:?}: {err}");
+        assert!(!err.contains("panicked"));
+        assert!(!out.exists());
+    }
+}

@@ -48,10 +48,14 @@ fn browser() -> Option<PathBuf> {
     if let Some(b) = std::env::var_os("CELLSWEEP_BROWSER") {
         return Some(b.into());
     }
-    ["/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"]
-        .iter()
-        .map(PathBuf::from)
-        .find(|p| p.exists())
+    [
+        "/usr/bin/chromium",
+        "/usr/bin/chromium-browser",
+        "/usr/bin/google-chrome",
+    ]
+    .iter()
+    .map(PathBuf::from)
+    .find(|p| p.exists())
 }
 
 /// Load `page` headless: (the DOM it built, the console messages it logged, a screenshot).
@@ -71,7 +75,11 @@ fn load(browser: &Path, page: &Path, shot: &Path) -> (String, Vec<String>) {
         .arg(&url)
         .output()
         .unwrap();
-    assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
+    assert!(
+        dom.status.success(),
+        "{}",
+        String::from_utf8_lossy(&dom.stderr)
+    );
     let console: Vec<String> = String::from_utf8_lossy(&dom.stderr)
         .lines()
         .filter(|l| l.contains("CONSOLE"))
@@ -84,7 +92,11 @@ fn load(browser: &Path, page: &Path, shot: &Path) -> (String, Vec<String>) {
         .arg(&url)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     (String::from_utf8_lossy(&dom.stdout).to_string(), console)
 }
 
@@ -141,7 +153,10 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
         assert!(html.contains(need), "the report lacks {need:?}");
     }
     // The diagrams not in the data are named with the command that makes them.
-    assert!(html.contains("cellsweep run sweeps/adaptive/L70-sigma0.toml") || html.matches("<figure>").count() >= 6);
+    assert!(
+        html.contains("cellsweep run sweeps/adaptive/L70-sigma0.toml")
+            || html.matches("<figure>").count() >= 6
+    );
 
     let Some(b) = browser_or_explain() else {
         return;
@@ -149,10 +164,20 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
     let shot = dir.join("report.png");
     let (dom, console) = load(&b, &page, &shot);
     assert!(console.is_empty(), "console messages: {console:#?}");
-    assert!(dom.contains("The paper's claims"), "the browser built no page");
-    assert!(dom.contains("<svg") && dom.contains("(a) outcome"), "the figures did not load");
+    assert!(
+        dom.contains("The paper's claims"),
+        "the browser built no page"
+    );
+    assert!(
+        dom.contains("<svg") && dom.contains("(a) outcome"),
+        "the figures did not load"
+    );
     let png = std::fs::read(&shot).unwrap();
-    assert!(png.starts_with(b"\x89PNG") && png.len() > 50_000, "{} bytes", png.len());
+    assert!(
+        png.starts_with(b"\x89PNG") && png.len() > 50_000,
+        "{} bytes",
+        png.len()
+    );
 
     // The console check can fail: a page that logs an error is caught.
     let bad = dir.join("bad.html");
@@ -192,9 +217,14 @@ fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
     let html = std::fs::read_to_string(&page).unwrap();
     assert_self_contained(&html);
     // Its diagrams are not the paper's: drawn apart, the paper's six named as not run.
-    assert!(html.contains("L = 48, σ = 5 (not one of the paper's)"), "{html}");
+    assert!(
+        html.contains("L = 48, σ = 5 (not one of the paper's)"),
+        "{html}"
+    );
     assert!(html.contains("L = 48, σ = 0 (not one of the paper's)"));
-    assert!(html.contains("Not run yet: <code>cellsweep run sweeps/adaptive/L90-sigma5.toml</code>"));
+    assert!(
+        html.contains("Not run yet: <code>cellsweep run sweeps/adaptive/L90-sigma5.toml</code>")
+    );
     assert!(html.contains("no data yet"));
     // Provenance: the sweep, its 8 replicates and their recorded core-hours.
     let row = html
@@ -220,8 +250,14 @@ fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
     let out = dir.join("never.html");
     for (args, says) in [
         (vec!["--data", empty.to_str().unwrap()], "no export files"),
-        (vec!["--data", junk.to_str().unwrap()], "a.csv: line 1: not a cellsweep export"),
-        (vec!["--data", "/no/such/dir"], "cannot read the folder /no/such/dir"),
+        (
+            vec!["--data", junk.to_str().unwrap()],
+            "a.csv: line 1: not a cellsweep export",
+        ),
+        (
+            vec!["--data", "/no/such/dir"],
+            "cannot read the folder /no/such/dir",
+        ),
         (vec!["--db", "/no/such.sqlite"], "/no/such.sqlite"),
     ] {
         let mut a = vec!["report"];

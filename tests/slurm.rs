@@ -441,21 +441,33 @@ fn array_tasks_respect_max_array_size_stop_cleanly_on_usr1_and_resume() {
     for k in 0..2 {
         assert!(task("prep", k).wait().unwrap().success());
     }
-    // Task 0 holds three jobs. USR1 while the second runs: it finishes that record, then stops.
+    // Task 0 holds three jobs. USR1 while the second runs (the task says on stderr when a
+    // record starts): it finishes that record, then stops.
     let results = sub.join("results/collide-0.jsonl");
-    let child = task("collide", 0);
-    let start = Instant::now();
-    while std::fs::read_to_string(&results).map_or(0, |t| t.lines().count()) < 1 {
-        assert!(start.elapsed() < Duration::from_secs(60), "no first record");
-        std::thread::sleep(Duration::from_millis(10));
+    let mut child = task("collide", 0);
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut said = String::new();
+    loop {
+        let mut line = String::new();
+        use std::io::BufRead as _;
+        assert!(
+            stderr.read_line(&mut line).unwrap() > 0,
+            "the task ended: {said}"
+        );
+        said += &line;
+        if line.contains("record 2 of 3 started") {
+            break;
+        }
     }
     Command::new("kill")
         .args(["-USR1", &child.id().to_string()])
         .status()
         .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("SIGUSR1"));
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    assert!(child.wait().unwrap().success());
+    assert!(rest.contains("SIGUSR1"), "{said}{rest}");
+    assert!(!rest.contains("record 3 of 3"), "{rest}");
     let first = std::fs::read_to_string(&results).unwrap();
     assert_eq!(
         first.lines().count(),

@@ -3,11 +3,11 @@
 use std::path::Path;
 
 use anyhow::{bail, Context};
+use cellsweep_report::{Provenance, Results};
 use cellsweep_scheduler::Ledger;
+use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::adaptive::{assess, kinds, PointEnds};
-use cellsweep_report::{Provenance, Results};
-use cellsweep_scheduler::Sweep;
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::{Counts, End, Label, Scales, Store};
 

@@ -89,19 +89,18 @@ impl<'a> Collection<'a> {
             speed: None,
             unused: Vec::new(),
         };
-        let mut bigger = |slot: &mut Option<&'a Results>, r: &'a Results, role: &str| {
-            match slot {
-                Some(old) if old.counts.iter().map(Counts::total).sum::<u64>()
+        let mut bigger = |slot: &mut Option<&'a Results>, r: &'a Results, role: &str| match slot {
+            Some(old)
+                if old.counts.iter().map(Counts::total).sum::<u64>()
                     >= r.counts.iter().map(Counts::total).sum::<u64>() =>
-                {
+            {
+                c.unused
+                    .push((r, format!("another {role} sweep has more replicates")))
+            }
+            _ => {
+                if let Some(old) = slot.replace(r) {
                     c.unused
-                        .push((r, format!("another {role} sweep has more replicates")))
-                }
-                _ => {
-                    if let Some(old) = slot.replace(r) {
-                        c.unused
-                            .push((old, format!("another {role} sweep has more replicates")));
-                    }
+                        .push((old, format!("another {role} sweep has more replicates")));
                 }
             }
         };
@@ -146,8 +145,10 @@ impl<'a> Collection<'a> {
         }
         for r in diagram_sets {
             if !c.diagrams.iter().any(|s| std::ptr::eq(s.results, r)) {
-                c.unused
-                    .push((r, "another sweep shows its diagrams with more replicates".into()));
+                c.unused.push((
+                    r,
+                    "another sweep shows its diagrams with more replicates".into(),
+                ));
             }
         }
         c

@@ -113,8 +113,43 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
         .iter()
         .filter(|k| an.collection.diagram(k.L, k.sigma).is_some())
         .count();
-    let trajectories: u64 = an.collection.diagrams.iter().map(|s| s.replicates().1).sum();
+    let trajectories: u64 = an
+        .collection
+        .diagrams
+        .iter()
+        .map(|s| s.replicates().1)
+        .sum();
     let count = |v: Verdict| claims.iter().filter(|c| c.verdict == v).count();
+    // Diagrams whose adaptive points still take rounds: their verdicts may yet change.
+    let running: Vec<String> = an
+        .collection
+        .diagrams
+        .iter()
+        .filter_map(|s| {
+            let st = s.results.standings.as_ref()?;
+            let open = s
+                .points
+                .iter()
+                .filter(|&&i| st[i].standing == Standing::Open)
+                .count();
+            (open > 0).then(|| {
+                format!(
+                    "{} ({open} of {} points open)",
+                    s.key.title(),
+                    s.points.len()
+                )
+            })
+        })
+        .collect();
+    let running = if running.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "<p><b>Still running:</b> {}. Their numbers and the verdicts that use them may yet \
+             change.</p>\n",
+            escape(&running.join("; "))
+        )
+    };
     let _ = write!(
         h,
         "<h1>Cell-cell collisions on nanofibers, reproduced</h1>\n\
@@ -122,7 +157,7 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
          checked against cellsweep's own runs of the same model. Generated {}.</p>\n\
          <p class=\"lead\">{shown} of the paper's 6 phase diagrams are here, from {trajectories} \
          collisions. Of the paper's {} claims checked below, {} are reproduced, {} partly, {} \
-         not, and {} wait for diagrams not yet run.</p>\n\
+         not, and {} wait for diagrams not yet run.</p>\n{running}\
          <nav><a href=\"#claims\">Claims</a><a href=\"#fit\">The line</a>\
          <a href=\"#columns\">β* per column</a><a href=\"#diagrams\">Diagrams</a>\
          <a href=\"#checks\">Speed and spindle</a><a href=\"#provenance\">Provenance</a></nav>\n",
@@ -205,7 +240,10 @@ fn fit_section(h: &mut String, an: &Analysis<'_>) {
         if an.collection.diagrams.iter().any(|s| s.key.sigma == sigma) {
             fit_row(h, what, fit, paper);
         } else {
-            let _ = writeln!(h, "<tr><td>{what}</td><td colspan=\"5\">no diagram at this σ yet</td></tr>");
+            let _ = writeln!(
+                h,
+                "<tr><td>{what}</td><td colspan=\"5\">no diagram at this σ yet</td></tr>"
+            );
         }
     }
     h.push_str("</table>\n");

@@ -496,7 +496,10 @@ impl Ledger {
                 .map(|(a, b)| [a, b]),
             collision_steps: row.collision_steps.max(0) as u64,
             // The time the collision took where it ran (0: not recorded).
-            wall_s: row.wall_s.filter(|w| w.is_finite() && *w > 0.0).unwrap_or(0.0),
+            wall_s: row
+                .wall_s
+                .filter(|w| w.is_finite() && *w > 0.0)
+                .unwrap_or(0.0),
             classifier: row.classifier.clone(),
             record: record.to_string(),
         };

@@ -377,7 +377,8 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
         out.write_all(b"\n").map_err(|e| io(e, &results))?;
     }
     let mut cache = crate::worker::PrepCache::new();
-    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    for (k, line) in lines.iter().enumerate() {
         if STOP.load(Ordering::SeqCst) {
             eprintln!("SIGUSR1: stopping before the time limit; the rest is resubmitted by `cellsweep submit`");
             break;
@@ -387,6 +388,12 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
         if done.contains(&req.task()) {
             continue;
         }
+        // In the task's Slurm log: which record runs now (after the stop check above).
+        eprintln!(
+            "{kind} task {task}: record {} of {} started",
+            k + 1,
+            lines.len()
+        );
         if let Request::Collide { prep_id, prep, .. } = &mut req {
             let path = preps_dir.join(format!("{prep_id}.json"));
             match std::fs::read_to_string(&path)

@@ -123,7 +123,11 @@ fn crossing(points: &[(f64, i64)]) -> Result<f64, NoCrossing> {
 }
 
 /// The columns of `counts` with their crossings; `diff` gives n_walk - n_train of a point.
-pub(crate) fn columns(counts: &[Counts], scales: &Scales, diff: &dyn Fn(usize) -> i64) -> Vec<Column> {
+pub(crate) fn columns(
+    counts: &[Counts],
+    scales: &Scales,
+    diff: &dyn Fn(usize) -> i64,
+) -> Vec<Column> {
     let mut keys: Vec<(u32, f64, f64)> = Vec::new();
     for c in counts {
         if !keys

@@ -127,8 +127,9 @@ mod tests {
     fn a_line_moved_by_a_known_delta_is_measured_back() {
         // beta* = 0.6 x - 12 at sigma 5; at sigma 0 the same line at alpha + 0.02.
         let s = Scales::default();
-        let x = |alpha: f64, l: u32| 2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * alpha
-            / (l as f64 / 40.0);
+        let x = |alpha: f64, l: u32| {
+            2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * alpha / (l as f64 / 40.0)
+        };
         let mut counts = Vec::new();
         for l in [90, 70] {
             for alpha in [0.12, 0.16, 0.2] {
@@ -137,7 +138,10 @@ mod tests {
             }
         }
         let m = measure_shift(&counts, &s, 50, 1).unwrap();
-        assert!((m.a - 0.6).abs() < 1e-9 && (m.b + 12.0).abs() < 1e-6, "{m:?}");
+        assert!(
+            (m.a - 0.6).abs() < 1e-9 && (m.b + 12.0).abs() < 1e-6,
+            "{m:?}"
+        );
         assert!((m.delta - 0.02).abs() < 1e-9, "{m:?}");
         // Every count is 0 or n: the resamples are the data, so is the interval.
         assert!((m.delta_ci[0] - 0.02).abs() < 1e-9 && (m.delta_ci[1] - 0.02).abs() < 1e-9);

@@ -3,6 +3,7 @@
 mod cli;
 mod commands;
 mod frames;
+mod output;
 mod progress;
 
 use clap::Parser;

@@ -271,4 +271,20 @@ fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
         assert!(!err.contains("panicked"));
         assert!(!out.exists());
     }
+    // An --out that is a folder is refused, and nothing is left beside it.
+    let r = cellsweep(&[
+        "report",
+        "--db",
+        db.to_str().unwrap(),
+        "--out",
+        empty.to_str().unwrap(),
+    ]);
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("is a folder"));
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }

@@ -4,7 +4,6 @@ use std::path::Path;
 
 use anyhow::{bail, Context};
 use cellsweep_report::{Provenance, Results};
-use cellsweep_scheduler::Ledger;
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::adaptive::{assess, kinds, PointEnds};
@@ -49,53 +48,24 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
         },
     };
     let id = store.sweep_id(&name)?;
-    let points = store.point_counts(id, SOLVER_VERSION)?;
-    // The scales of the sweep's model (R0 and d may be swept away from the paper's).
-    let scales = points
-        .first()
-        .and_then(|p| store.point_params(p.point_id).ok())
-        .and_then(|json| serde_json::from_str::<serde_json::Value>(&json).ok())
-        .and_then(|v| serde_json::from_value::<Params>(v["params"].clone()).ok())
-        .map_or_else(Scales::default, |p| Scales { R0: p.R0, d: p.d });
-    let counts = points
-        .into_iter()
-        .map(|p| {
-            let o = &p.outcomes;
-            Counts {
-                alpha: p.alpha,
-                beta: p.beta,
-                L: p.L,
-                sigma: p.sigma,
-                n_train: o.train as u64,
-                n_walk: o.walk_past as u64,
-                n_reversal: o.reversal as u64,
-                n_undetermined: o.undetermined as u64,
-                n_unstable: o.unstable as u64,
-                n_breakup: o.breakup as u64,
-                verdict: None,
-                free_speed: p.free_speed,
-            }
-        })
-        .collect();
-    let standings = Ledger::load(&store, id, SOLVER_VERSION)?.assess(&store)?;
     let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?)
         .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;
     let defaults = serde_json::to_value(Params::default())?;
+    // The store's finished replicates read exactly as an export of them would be.
     let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
-    Ok(Loaded {
-        name,
-        counts,
-        scales,
-        standings,
-        prep_speeds: None,
-        provenance: Some(provenance(&db.display().to_string(), &sweep, &rows)),
-    })
+    from_rows(&db.display().to_string(), &sweep, &rows)
 }
 
 /// Counts of every point of an export file (`cellsweep export`), and, for an adaptive sweep,
 /// each point's standing under its rule, exactly as the store would give them.
 pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
     let (sweep, rows) = super::export::read_export(path)?;
+    from_rows(&path.display().to_string(), &sweep, &rows)
+}
+
+/// Counts, standings, each prep's free speed and provenance of a sweep's finished rows (from
+/// an export file or a store, named `source` in every message).
+fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<Loaded> {
     let mut ends: Vec<PointEnds> = sweep
         .points()
         .iter()
@@ -109,7 +79,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         .collect();
     // Each distinct prep's free speed (a point's replicates share their preps round-robin).
     let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];
-    for r in &rows {
+    for r in rows {
         let at = (r.alpha, r.beta, r.L, r.sigma);
         let Some(i) = ends
             .iter()
@@ -117,7 +87,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         else {
             bail!(
                 "{}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
-                path.display(),
+                source,
                 r.alpha,
                 r.beta,
                 r.L,
@@ -130,7 +100,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
                 "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
                  result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
                  other verdicts have none)",
-                path.display(),
+                source,
                 r.replicate,
                 r.alpha,
                 r.beta,
@@ -143,7 +113,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         if k >= sweep.replicates as usize {
             bail!(
                 "{}: replicate {k} is beyond the sweep's {} per point",
-                path.display(),
+                source,
                 sweep.replicates
             );
         }
@@ -153,7 +123,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
         if e[k].replace(end).is_some() {
             bail!(
                 "{}: replicate {k} at alpha = {}, beta = {} appears twice",
-                path.display(),
+                source,
                 r.alpha,
                 r.beta
             );
@@ -194,7 +164,7 @@ pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
                 .map(|p| p.into_iter().map(|s| s.1).collect())
                 .collect(),
         ),
-        provenance: Some(provenance(&path.display().to_string(), &sweep, &rows)),
+        provenance: Some(provenance(source, sweep, rows)),
     })
 }
 

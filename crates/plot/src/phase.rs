@@ -248,7 +248,7 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
     let alphas = axis(d.points.iter().map(|p| p.alpha));
     let betas = axis(d.points.iter().map(|p| p.beta));
     let (pw, ph) = (240.0, 300.0);
-    let mut fig = Figure::new(4 * 310 + 110, 520);
+    let mut fig = Figure::new(4 * 310 + 110, 540);
     fig.text(20.0, 28.0, 18.0, Anchor::Start, d.title.clone());
     if alphas.is_empty() {
         return fig;
@@ -337,9 +337,10 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
         fig.text(bx + 24.0, y + 4.0, 12.0, Anchor::Start, s);
     }
     fig.text(bx - 2.0, by0 - 12.0, 12.0, Anchor::Start, "frequency");
-    // Legend: symbols present, grey cells if any, then lines; a second row explains n.
+    // Legend: symbols present and grey cells if any; the lines on a second row; a third
+    // explains n.
     let mut x = 70.0;
-    let y = 470.0;
+    let y = 462.0;
     for m in Mark::ALL {
         if d.points.iter().any(|p| p.mark == Some(m)) {
             draw_mark(&mut fig, m, x, y - 5.0, 9.0);
@@ -361,8 +362,8 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
         });
         let label = "no collision (prep unstable or broke up)";
         fig.text(x + 20.0, y, 12.0, Anchor::Start, label);
-        x += 40.0 + text_width(label, 12.0);
     }
+    let (mut x, y) = (70.0, y + 24.0);
     for l in &d.lines {
         fig.push(Shape::Line {
             x1: x,

@@ -23,6 +23,7 @@ pub mod slurm;
 pub mod status;
 pub mod store;
 pub mod throughput;
+mod transitions;
 
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use binomial::clopper_pearson;

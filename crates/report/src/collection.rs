@@ -177,3 +177,73 @@ impl<'a> Collection<'a> {
         (out, scales.unwrap_or_default())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Provenance;
+
+    fn results(name: &str, l: u32, n: u64, two_fibers: bool, preps: u32) -> Results {
+        let c = Counts {
+            alpha: 0.1,
+            beta: 10.0,
+            L: l,
+            sigma: 5.0,
+            n_train: n,
+            n_walk: 0,
+            n_reversal: 0,
+            n_undetermined: 0,
+            n_unstable: 0,
+            n_breakup: 0,
+            verdict: None,
+            free_speed: None,
+        };
+        Results {
+            name: name.into(),
+            counts: vec![c],
+            scales: Scales::default(),
+            standings: None,
+            prep_speeds: None,
+            provenance: Some(Provenance {
+                source: name.into(),
+                seed: 1,
+                two_fibers,
+                replicates: n as u32,
+                preps_per_point: preps,
+                adaptive: None,
+                precision: "f32".into(),
+                collide_time: 400.0,
+                solver_versions: vec![],
+                rows: n,
+                collisions: n,
+                collision_s: 0.0,
+                prep_s: 0.0,
+                untimed: 0,
+            }),
+        }
+    }
+
+    #[test]
+    fn each_sweep_goes_where_it_belongs_and_the_larger_of_two_diagrams_is_shown() {
+        let all = [
+            results("fixed24", 90, 24, true, 1),
+            results("adaptive", 90, 96, true, 1),
+            results("spindle", 90, 48, false, 1),
+            results("speed", 90, 20, true, 20),
+            results("other", 60, 8, true, 1),
+        ];
+        let c = Collection::of(&all);
+        assert_eq!(c.spindle.unwrap().name, "spindle");
+        assert_eq!(c.speed.unwrap().name, "speed");
+        assert_eq!(c.diagram(90, 5.0).unwrap().results.name, "adaptive");
+        // The paper's diagrams first, then the others.
+        let keys: Vec<(u32, &str)> = c
+            .diagrams
+            .iter()
+            .map(|s| (s.key.L, s.results.name.as_str()))
+            .collect();
+        assert_eq!(keys, [(90, "adaptive"), (60, "other")]);
+        let unused: Vec<&str> = c.unused.iter().map(|(r, _)| r.name.as_str()).collect();
+        assert_eq!(unused, ["fixed24"]);
+    }
+}

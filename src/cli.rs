@@ -309,14 +309,10 @@ pub struct PlotArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["db", "data"])))]
 pub struct ReportArgs {
     /// A store: every sweep in it.
-    #[arg(
-        long,
-        value_name = "PATH",
-        required_unless_present = "data",
-        conflicts_with = "data"
-    )]
+    #[arg(long, value_name = "PATH")]
     pub db: Option<std::path::PathBuf>,
     /// A folder of `cellsweep export` files (every *.csv in it, e.g. data/paper): no store,
     /// no recomputation.

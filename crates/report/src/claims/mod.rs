@@ -148,6 +148,16 @@ pub(super) fn no_data(
     }
 }
 
+/// A claim with a main condition and a further one: both hold, reproduced; the main one
+/// only, partly; else not.
+pub(super) fn graded(main: bool, further: bool) -> Verdict {
+    match (main, further) {
+        (true, true) => Verdict::Reproduced,
+        (true, false) => Verdict::Partly,
+        _ => Verdict::Not,
+    }
+}
+
 /// Every claim, in the paper's order.
 pub fn evaluate(an: &Analysis<'_>) -> Vec<Claim> {
     vec![

@@ -2,7 +2,7 @@
 
 use cellsweep_store::{Counts, Label};
 
-use super::{no_data, pct, sums, with_label, Claim, Verdict};
+use super::{graded, no_data, pct, sums, with_label, Claim, Verdict};
 use crate::analysis::Analysis;
 
 pub(super) fn spindle(an: &Analysis<'_>) -> Claim {
@@ -164,11 +164,7 @@ pub(super) fn transition(an: &Analysis<'_>) -> Claim {
                 format!("α = {}", bad.join(", "))
             }
         ),
-        verdict: match (placed, bad.is_empty()) {
-            (true, true) => Verdict::Reproduced,
-            (true, false) => Verdict::Partly,
-            _ => Verdict::Not,
-        },
+        verdict: graded(placed, bad.is_empty()),
     }
 }
 

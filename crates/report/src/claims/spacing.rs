@@ -3,8 +3,8 @@
 use cellsweep_store::Label;
 
 use super::{
-    collided, matched, no_data, paired_stars, pct, star_rank, star_text, sums, with_label, Claim,
-    Verdict,
+    collided, graded, matched, no_data, paired_stars, pct, star_rank, star_text, sums, with_label,
+    Claim, Verdict,
 };
 use crate::analysis::Analysis;
 use crate::collection::Shown;
@@ -57,11 +57,7 @@ pub(super) fn spacing(an: &Analysis<'_>) -> Claim {
                 .collect::<Vec<_>>()
                 .join("; ")
         ),
-        verdict: match (more, higher) {
-            (true, true) => Verdict::Reproduced,
-            (true, false) => Verdict::Partly,
-            _ => Verdict::Not,
-        },
+        verdict: graded(more, higher),
     }
 }
 
@@ -104,11 +100,7 @@ pub(super) fn few_walk_at_70(an: &Analysis<'_>) -> Claim {
              {w70} at L = 70 (of {}), {w90} at L = 90",
             a.points.len()
         ),
-        verdict: match (first, few) {
-            (true, true) => Verdict::Reproduced,
-            (true, false) => Verdict::Partly,
-            _ => Verdict::Not,
-        },
+        verdict: graded(first, few),
     }
 }
 

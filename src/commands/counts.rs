@@ -69,13 +69,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<
     let mut ends: Vec<PointEnds> = sweep
         .points()
         .iter()
-        .map(|p| PointEnds {
-            alpha: p.alpha,
-            beta: p.beta,
-            L: p.L,
-            sigma: p.sigma,
-            ends: Vec::new(),
-        })
+        .map(|p| PointEnds::new(p.alpha, p.beta, p.L, p.sigma))
         .collect();
     // Each distinct prep's free speed (a point's replicates share their preps round-robin).
     let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];

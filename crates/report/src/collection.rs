@@ -185,18 +185,8 @@ mod tests {
 
     fn results(name: &str, l: u32, n: u64, two_fibers: bool, preps: u32) -> Results {
         let c = Counts {
-            alpha: 0.1,
-            beta: 10.0,
-            L: l,
-            sigma: 5.0,
             n_train: n,
-            n_walk: 0,
-            n_reversal: 0,
-            n_undetermined: 0,
-            n_unstable: 0,
-            n_breakup: 0,
-            verdict: None,
-            free_speed: None,
+            ..Counts::none(0.1, 10.0, l, 5.0)
         };
         Results {
             name: name.into(),

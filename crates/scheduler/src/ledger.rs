@@ -325,13 +325,7 @@ impl Ledger {
             .collect();
         let mut out: Vec<PointEnds> = points
             .iter()
-            .map(|p| PointEnds {
-                alpha: p.alpha,
-                beta: p.beta,
-                L: p.L,
-                sigma: p.sigma,
-                ends: Vec::new(),
-            })
+            .map(|p| PointEnds::new(p.alpha, p.beta, p.L, p.sigma))
             .collect();
         for r in store.replicates(self.sweep_id, &self.version)? {
             if let Some(&i) = index.get(&key(r.alpha, r.beta, r.L, r.sigma)) {

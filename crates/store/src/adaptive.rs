@@ -192,6 +192,18 @@ pub struct PointEnds {
 }
 
 impl PointEnds {
+    /// The point (alpha, beta, L, sigma) with no replicate finished yet.
+    #[allow(non_snake_case)]
+    pub fn new(alpha: f64, beta: f64, L: u32, sigma: f64) -> PointEnds {
+        PointEnds {
+            alpha,
+            beta,
+            L,
+            sigma,
+            ends: Vec::new(),
+        }
+    }
+
     /// The number of replicates finished in index order, without a gap.
     pub fn prefix(&self) -> u32 {
         self.ends.iter().take_while(|e| e.is_some()).count() as u32
@@ -199,20 +211,7 @@ impl PointEnds {
 
     /// Outcome counts of the first `n` replicates (all finished).
     pub fn counts(&self, n: u32) -> Counts {
-        let mut c = Counts {
-            alpha: self.alpha,
-            beta: self.beta,
-            L: self.L,
-            sigma: self.sigma,
-            n_train: 0,
-            n_walk: 0,
-            n_reversal: 0,
-            n_undetermined: 0,
-            n_unstable: 0,
-            n_breakup: 0,
-            verdict: None,
-            free_speed: None,
-        };
+        let mut c = Counts::none(self.alpha, self.beta, self.L, self.sigma);
         for end in self.ends.iter().take(n as usize).flatten() {
             *match end {
                 End::Train => &mut c.n_train,

@@ -89,6 +89,26 @@ pub struct Counts {
 }
 
 impl Counts {
+    /// The point (alpha, beta, L, sigma) with no result yet: every count zero, no verdict, no
+    /// speed. Callers add to it, or fill in what they know with `..Counts::none(..)`.
+    #[allow(non_snake_case)]
+    pub fn none(alpha: f64, beta: f64, L: u32, sigma: f64) -> Counts {
+        Counts {
+            alpha,
+            beta,
+            L,
+            sigma,
+            n_train: 0,
+            n_walk: 0,
+            n_reversal: 0,
+            n_undetermined: 0,
+            n_unstable: 0,
+            n_breakup: 0,
+            verdict: None,
+            free_speed: None,
+        }
+    }
+
     /// All replicates with a result.
     pub fn total(&self) -> u64 {
         self.n_train

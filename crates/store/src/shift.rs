@@ -107,18 +107,9 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(k, &beta)| Counts {
-                alpha,
-                beta,
-                L: l,
-                sigma,
                 n_train: if k == 0 { 10 } else { 0 },
                 n_walk: if k == 0 { 0 } else { 10 },
-                n_reversal: 0,
-                n_undetermined: 0,
-                n_unstable: 0,
-                n_breakup: 0,
-                verdict: None,
-                free_speed: None,
+                ..Counts::none(alpha, beta, l, sigma)
             })
             .collect()
     }

@@ -4,18 +4,11 @@ use cellsweep_store::{fit_line, wilson, Counts, Label, Scales};
 
 fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
     Counts {
-        alpha: 0.1,
-        beta: 10.0,
-        L: 90,
-        sigma: 5.0,
         n_train,
         n_walk,
         n_reversal,
         n_undetermined,
-        n_unstable: 0,
-        n_breakup: 0,
-        verdict: None,
-        free_speed: None,
+        ..Counts::none(0.1, 10.0, 90, 5.0)
     }
 }
 

@@ -193,18 +193,9 @@ mod tests {
                 let (alpha, beta) = (0.1 + 0.02 * i as f64, 10.0 + 4.0 * j as f64);
                 let w = (96.0 * walk(alpha, beta)).round() as u64;
                 counts.push(Counts {
-                    alpha,
-                    beta,
-                    L: l,
-                    sigma,
                     n_train: 96 - w,
                     n_walk: w,
-                    n_reversal: 0,
-                    n_undetermined: 0,
-                    n_unstable: 0,
-                    n_breakup: 0,
-                    verdict: None,
-                    free_speed: None,
+                    ..Counts::none(alpha, beta, l, sigma)
                 });
             }
         }

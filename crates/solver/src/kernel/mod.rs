@@ -154,8 +154,7 @@ pub fn step_cell<T: Real>(
     parallel: bool,
 ) -> Sums {
     let full = [Span::full(lat.nx, other.is_some())];
-    let spans = RowSpans::Uniform(&full);
-    step_with(isa(), lat, fibers, k, phi, p, other, spans, out, parallel)
+    step_cell_in(lat, fibers, k, phi, p, other, &full, out, parallel)
 }
 
 /// [`step_cell`] restricted to the columns `spans` of each row (the same in every row, or each
@@ -227,16 +226,5 @@ pub fn step_cell_portable<T: Real>(
     out: &mut [T],
 ) -> Sums {
     let full = [Span::full(lat.nx, other.is_some())];
-    step_with(
-        Isa::Portable,
-        lat,
-        fibers,
-        k,
-        phi,
-        p,
-        other,
-        RowSpans::Uniform(&full),
-        out,
-        false,
-    )
+    step_cell_portable_in(lat, fibers, k, phi, p, other, &full, out)
 }

@@ -390,9 +390,12 @@ pub struct SubmitArgs {
     /// Run directory on the cluster's shared filesystem (default: cellsweep-runs/NAME).
     #[arg(long, value_name = "DIR")]
     pub run_dir: Option<std::path::PathBuf>,
-    /// Slurm partition.
+    /// Slurm partition (or several, comma-separated).
     #[arg(long)]
     pub partition: Option<String>,
+    /// Slurm account to charge.
+    #[arg(long)]
+    pub account: Option<String>,
     /// Time limit of one array task, HH:MM:SS.
     #[arg(long)]
     pub time: Option<String>,

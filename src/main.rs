@@ -28,29 +28,39 @@ pub fn on_broken_pipe(how: OnBrokenPipe) {
 }
 
 fn main() {
-    let cli = match cli::Cli::try_parse() {
-        Ok(cli) => cli,
-        Err(e) => {
-            use clap::error::ErrorKind;
-            if matches!(
-                e.kind(),
-                ErrorKind::DisplayHelp
-                    | ErrorKind::DisplayVersion
-                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-            ) {
-                e.exit();
+    // `cellsweep help --help` (and `help run -h`) is a request for help, as `--help` is.
+    let mut argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if argv.get(1).is_some_and(|a| a == "help") {
+        argv.retain(|a| a != "--help" && a != "-h");
+    }
+    let cli =
+        match cli::Cli::try_parse_from(argv) {
+            Ok(cli) => cli,
+            Err(e) => {
+                use clap::error::ErrorKind;
+                if matches!(
+                    e.kind(),
+                    ErrorKind::DisplayHelp
+                        | ErrorKind::DisplayVersion
+                        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+                ) {
+                    e.exit();
+                }
+                // Bad flags, like bad files: one line naming the problem, exit 1.
+                let text = e.to_string();
+                let mut line: Vec<&str> = text
+                    .lines()
+                    .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
+                    .map(str::trim)
+                    .collect();
+                // clap's "did you mean" (a similar subcommand or flag exists) joins the line.
+                line.extend(text.lines().map(str::trim).filter(|l| {
+                    l.starts_with("tip: a similar") || l.starts_with("tip: some similar")
+                }));
+                eprintln!("{}", line.join("; "));
+                std::process::exit(1);
             }
-            // Bad flags, like bad files: one line naming the problem, exit 1.
-            let text = e.to_string();
-            let line: Vec<&str> = text
-                .lines()
-                .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
-                .map(str::trim)
-                .collect();
-            eprintln!("{}", line.join(" "));
-            std::process::exit(1);
-        }
-    };
+        };
     if !matches!(cli.command, cli::Command::Worker(_)) {
         on_broken_pipe(OnBrokenPipe::Die);
     }

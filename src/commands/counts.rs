@@ -242,10 +242,11 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
     for r in required {
         idx.push(find(r).with_context(|| format!("{file}: line 1: missing column {r:?}"))?);
     }
-    let (label_col, unstable_col, breakup_col, speed_col) = (
+    let (label_col, unstable_col, breakup_col, split_col, speed_col) = (
         find("label"),
         find("n_unstable"),
         find("n_breakup"),
+        find("n_collision_breakup"),
         find("free_speed"),
     );
     let mut out: Vec<Counts> = Vec::new();
@@ -309,6 +310,7 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
             n_undetermined: count(idx[7])?,
             n_unstable: opt_count(unstable_col)?,
             n_breakup: opt_count(breakup_col)?,
+            n_collision_breakup: opt_count(split_col)?,
             verdict,
             free_speed: speed_col
                 .and_then(|c| cell(c).parse().ok())

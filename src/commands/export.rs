@@ -9,6 +9,7 @@ use cellsweep_store::export::{ExportRow, EXPORT_FORMAT, READ_FORMATS};
 use cellsweep_store::JobState;
 use cellsweep_store::Store;
 use rayon::prelude::*;
+use std::collections::HashMap;
 
 use crate::cli::{ExportArgs, ImportArgs};
 
@@ -100,40 +101,193 @@ pub fn read_export(path: &std::path::Path) -> anyhow::Result<(Sweep, Vec<ExportR
 }
 
 /// `cellsweep import`: register the file's sweep, compute the preps its rows need, check every
-/// row against the job it claims, and commit them all, or none if any is refused.
+/// row against the job it claims (and against the row the store already holds for it), and
+/// commit it all in one transaction: refused, the store is as it was (a store the import would
+/// have created is not left behind).
 pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     let file = args.file.display().to_string();
-    let (sweep, rows) = read_export(&args.file)?;
-    // Register the sweep with every replicate the rows name (and at least its first round).
+    let (sweep, mut rows) = read_export(&args.file)?;
+    let targets = import_targets(&file, &sweep, &mut rows)?;
+    let _lock = StoreLock::acquire(&args.db.db)?;
+    let db = &args.db.db;
+    let existed = std::fs::metadata(db).is_ok_and(|m| m.len() > 0);
+    let mut store = Store::open_or_create(db)?;
+    store.check_integrity()?;
+    let done = store.atomically(|store| import_into(store, &file, &sweep, &rows, &targets));
+    if done.is_err() && !existed {
+        // Nothing of it may stay: not even the empty store this import created.
+        drop(store);
+        for tail in ["", "-wal", "-shm", "-journal"] {
+            let mut p = db.as_os_str().to_owned();
+            p.push(tail);
+            let _ = std::fs::remove_file(std::path::PathBuf::from(p));
+        }
+    }
+    let (new, already) = done?;
+    println!(
+        "imported {new} results of {:?} from {file} ({already} already in the store) into {}",
+        sweep.name,
+        db.display()
+    );
+    Ok(())
+}
+
+/// Every row's field check and point, and the replicates to register per point (at least its
+/// first round). Rows of an archived sweep (`NAME@ID`, a sweep set aside by `run --replace`)
+/// are the rows of the sweep its definition names. Two rows of one job must agree.
+fn import_targets(file: &str, sweep: &Sweep, rows: &mut [ExportRow]) -> anyhow::Result<Vec<u32>> {
+    for r in rows.iter_mut() {
+        if let Some((name, id)) = r.sweep.rsplit_once('@') {
+            if name == sweep.name && !id.is_empty() && id.bytes().all(|b| b.is_ascii_digit()) {
+                r.sweep = sweep.name.clone();
+            }
+        }
+    }
     let points = sweep.points();
     let mut targets = vec![sweep.initial_replicates(); points.len()];
-    for r in &rows {
+    let mut problems = Vec::new();
+    let mut first_of: HashMap<(usize, u32), usize> = HashMap::new();
+    for (n, r) in rows.iter().enumerate() {
+        let at = format!("row {}", n + 1);
+        for p in r.field_problems() {
+            problems.push(format!("{at}: {p}"));
+        }
         let Some(i) = points
             .iter()
             .position(|p| (p.alpha, p.beta, p.L, p.sigma) == (r.alpha, r.beta, r.L, r.sigma))
         else {
             bail!(
-                "{file}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
+                "{file}: {at}: alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
                 r.alpha, r.beta, r.L, r.sigma, sweep.name
             );
         };
         if r.replicate >= sweep.replicates {
             bail!(
-                "{file}: replicate {} is beyond the sweep's {} per point",
+                "{file}: {at}: replicate {} is beyond the sweep's {} per point",
                 r.replicate,
                 sweep.replicates
             );
         }
         targets[i] = targets[i].max(r.replicate + 1);
+        match first_of.get(&(i, r.replicate)) {
+            Some(&first) => problems.extend(conflicts(
+                &format!("{at} and row {} (the same job)", first + 1),
+                r,
+                &rows[first],
+            )),
+            None => {
+                first_of.insert((i, r.replicate), n);
+            }
+        }
     }
-    let _lock = StoreLock::acquire(&args.db.db)?;
-    let mut store = Store::open_or_create(&args.db.db)?;
-    store.check_integrity()?;
-    let reg = store.register(&plan_targets(&sweep, &file, &|i| targets[i]), false)?;
-    let ledger = Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?;
-    // The rows' preps, computed here so that each row's prep hash can be checked.
+    refuse(file, rows.len(), &problems)?;
+    Ok(targets)
+}
+
+/// Each result field in which `row` and `other` (of one job) differ, as a line naming the
+/// replicate, the field and both values.
+fn conflicts(what: &str, row: &ExportRow, other: &ExportRow) -> Vec<String> {
+    let at = format!(
+        "alpha = {}, beta = {}, L = {}, sigma = {}, replicate {}",
+        row.alpha, row.beta, row.L, row.sigma, row.replicate
+    );
+    row.result_differences(other)
+        .into_iter()
+        .map(|(field, a, b)| format!("{what}, {at}: {field} is {a:?} here and {b:?} there"))
+        .collect()
+}
+
+/// Refuse the file if anything is wrong with it: the first problems, one a line, then one line
+/// that says nothing was imported.
+fn refuse(file: &str, rows: usize, problems: &[String]) -> anyhow::Result<()> {
+    if problems.is_empty() {
+        return Ok(());
+    }
+    for why in problems.iter().take(10) {
+        eprintln!("refused: {file}: {why}");
+    }
+    if problems.len() > 10 {
+        eprintln!("refused: ... and {} more", problems.len() - 10);
+    }
+    bail!(
+        "{file}: {} problems in its {rows} rows; nothing was imported and the store is as it was",
+        problems.len()
+    )
+}
+
+/// The import itself, inside the store's one transaction: register, compute and check the
+/// preps, check every row, commit. Returns (results new, results already stored and equal).
+fn import_into(
+    store: &mut Store,
+    file: &str,
+    sweep: &Sweep,
+    rows: &[ExportRow],
+    targets: &[u32],
+) -> anyhow::Result<(usize, usize)> {
+    let reg = store.register(&plan_targets(sweep, file, &|i| targets[i]), false)?;
+    let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;
+    compute_preps(store, &ledger, reg.sweep_id, rows)?;
+    let defaults = serde_json::to_value(Params::default())?;
+    let stored: HashMap<(u64, u64, u32, u64, u32), ExportRow> = store
+        .export_rows(reg.sweep_id, SOLVER_VERSION, &defaults)?
+        .into_iter()
+        .map(|r| (job_key(&r), r))
+        .collect();
+    let mut problems = Vec::new();
+    let mut to_commit = Vec::new();
+    let mut already = 0;
+    let mut taken = std::collections::HashSet::new();
+    for r in rows {
+        match ledger.check_row(store, r)? {
+            RowCheck::Commit(job) => {
+                if taken.insert(job) {
+                    to_commit.push((job, r));
+                }
+            }
+            RowCheck::Already => match stored.get(&job_key(r)) {
+                Some(s) => {
+                    let c = conflicts("the file's row and the store's", r, s);
+                    if c.is_empty() {
+                        already += 1;
+                    }
+                    problems.extend(c);
+                }
+                None => already += 1,
+            },
+            RowCheck::Refused(why) => problems.push(why),
+        }
+    }
+    refuse(file, rows.len(), &problems)?;
+    let mut new = 0;
+    for (job, r) in to_commit {
+        if ledger.commit_row(store, job, r)? == Settlement::New {
+            new += 1;
+        }
+    }
+    Ok((new, already))
+}
+
+/// A row's job: its point's axes (as bits) and replicate.
+fn job_key(r: &ExportRow) -> (u64, u64, u32, u64, u32) {
+    (
+        r.alpha.to_bits(),
+        r.beta.to_bits(),
+        r.L,
+        r.sigma.to_bits(),
+        r.replicate,
+    )
+}
+
+/// The preps the rows need, computed here (in parallel) so that each row's prep hash can be
+/// checked, and committed through the ledger.
+fn compute_preps(
+    store: &mut Store,
+    ledger: &Ledger,
+    sweep_id: i64,
+    rows: &[ExportRow],
+) -> anyhow::Result<()> {
     let missing: Vec<_> = store
-        .preps_of(reg.sweep_id, SOLVER_VERSION)?
+        .preps_of(sweep_id, SOLVER_VERSION)?
         .into_iter()
         .filter(|p| p.state != JobState::Done)
         .collect();
@@ -165,43 +319,11 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
             .and_then(|r| r.prep_wall_s)
             .filter(|w| w.is_finite() && *w > 0.0)
             .unwrap_or(took);
-        if let Settlement::Refused(why) = ledger
-            .settle_prep(&mut store, id, &payload, wall_s)?
-            .settlement
+        if let Settlement::Refused(why) =
+            ledger.settle_prep(store, id, &payload, wall_s)?.settlement
         {
             bail!("{why}");
         }
     }
-    let mut refused = Vec::new();
-    let mut to_commit = Vec::new();
-    let mut already = 0;
-    for r in &rows {
-        match ledger.check_row(&store, r)? {
-            RowCheck::Commit(job) => to_commit.push((job, r)),
-            RowCheck::Already => already += 1,
-            RowCheck::Refused(why) => refused.push(why),
-        }
-    }
-    if !refused.is_empty() {
-        for why in refused.iter().take(10) {
-            eprintln!("refused: {why}");
-        }
-        bail!(
-            "{file}: {} of {} rows do not match the jobs they claim; nothing was imported",
-            refused.len(),
-            rows.len()
-        );
-    }
-    let mut new = 0;
-    for (job, r) in to_commit {
-        if ledger.commit_row(&mut store, job, r)? == Settlement::New {
-            new += 1;
-        }
-    }
-    println!(
-        "imported {new} results of {:?} from {file} ({already} already in the store) into {}",
-        sweep.name,
-        args.db.db.display()
-    );
     Ok(())
 }

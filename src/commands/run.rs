@@ -144,7 +144,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     bar.finish();
     // The jobs are settled: from here a closed pipe may end the process quietly.
     crate::on_broken_pipe(crate::OnBrokenPipe::Die);
-    let report = report?;
+    let report = report.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
 
     summarize(
         &args,

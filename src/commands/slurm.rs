@@ -47,6 +47,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
     let opts = SubmitOptions {
         run_dir: run_dir.clone(),
         partition: args.partition.clone(),
+        account: args.account.clone(),
         time: args.time.clone(),
         jobs_per_task: args.jobs_per_task as usize,
         max_running: args.max_array.map(|n| n as usize),

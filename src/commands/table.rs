@@ -19,15 +19,32 @@ pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
     v
 }
 
-const FRACTIONS: [&str; 4] = ["train", "walk_past", "reversal", "undetermined"];
+const FRACTIONS: [&str; 5] = [
+    "train",
+    "walk_past",
+    "reversal",
+    "undetermined",
+    "collision_breakup",
+];
 
-fn fractions(c: &Counts) -> [(u64, &'static str); 4] {
+/// Each collision end's count, in the order of [`FRACTIONS`].
+fn fractions(c: &Counts) -> [(u64, &'static str); 5] {
     [
         (c.n_train, "train"),
         (c.n_walk, "walk_past"),
         (c.n_reversal, "reversal"),
         (c.n_undetermined, "undetermined"),
+        (c.n_collision_breakup, "collision_breakup"),
     ]
+}
+
+/// A fraction with its interval as a table cell; a point with no replicate has none.
+fn fraction_cell(k: u64, n: u64) -> String {
+    if n == 0 {
+        return format!("{k:>3} -");
+    }
+    let f = wilson(k, n);
+    format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
 }
 
 /// The grid of one diagram: alpha across, beta down (largest beta on top, as in the paper).
@@ -96,7 +113,7 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
             }
             println!("{LEGEND}\n");
             println!(
-                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  label{}",
+                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  label{}",
                 "alpha",
                 "beta",
                 "L",
@@ -106,6 +123,7 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                 "walk_past",
                 "reversal",
                 "undetermined",
+                "broke up",
                 if standings.is_some() {
                     "  standing (adaptive)"
                 } else {
@@ -116,16 +134,13 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                 let n = c.total();
                 let cells: Vec<String> = fractions(c)
                     .iter()
-                    .map(|&(k, _)| {
-                        let f = wilson(k, n);
-                        format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
-                    })
+                    .map(|&(k, _)| fraction_cell(k, n))
                     .collect();
                 let st = standing(i).map_or(String::new(), |a| {
                     format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
                 });
                 println!(
-                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
+                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
                     c.alpha,
                     c.beta,
                     c.L,
@@ -135,12 +150,13 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                     cells[1],
                     cells[2],
                     cells[3],
+                    cells[4],
                     c.label().map_or("-", Label::as_str)
                 );
             }
         }
         Format::Csv => {
-            let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n".to_string();
+            let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n".to_string();
             for f in FRACTIONS {
                 header += &format!(",f_{f},f_{f}_low,f_{f}_high");
             }
@@ -156,7 +172,7 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
             for (i, c) in counts.iter().enumerate() {
                 let n = c.total();
                 let mut row = format!(
-                    "{},{},{},{},{},{},{},{},{},{},{}",
+                    "{},{},{},{},{},{},{},{},{},{},{},{}",
                     c.alpha,
                     c.beta,
                     c.L,
@@ -167,11 +183,18 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                     c.n_undetermined,
                     c.n_unstable,
                     c.n_breakup,
+                    c.n_collision_breakup,
                     n
                 );
                 for (k, _) in fractions(c) {
-                    let f = wilson(k, n);
-                    row += &format!(",{:.6},{:.6},{:.6}", f.value, f.low, f.high);
+                    // (Empty cells for a point with no replicate: no fraction to give.)
+                    row += &match n {
+                        0 => ",,,".to_string(),
+                        _ => {
+                            let f = wilson(k, n);
+                            format!(",{:.6},{:.6},{:.6}", f.value, f.low, f.high)
+                        }
+                    };
                 }
                 let speed = c.free_speed.map_or(String::new(), |v| format!("{v:.6}"));
                 let label = match (c.verdict, c.label()) {
@@ -188,6 +211,7 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                         b.map(|b| b.walk_past),
                         b.map(|b| b.reversal),
                         b.map(|b| b.undetermined),
+                        b.map(|b| b.collision_breakup),
                         b.map(|b| b.walk_minus_train),
                     ] {
                         st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
@@ -205,16 +229,22 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
                     let mut f = serde_json::Map::new();
                     for (k, name) in fractions(c) {
                         let w = wilson(k, n);
+                        // (JSON has no NaN: null for a point with no replicate.)
                         f.insert(
                             name.into(),
-                            json!({ "value": w.value, "low": w.low, "high": w.high }),
+                            if n == 0 {
+                                json!(null)
+                            } else {
+                                json!({ "value": w.value, "low": w.low, "high": w.high })
+                            },
                         );
                     }
                     let mut row = json!({
                         "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
                         "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
                         "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
-                        "n_breakup": c.n_breakup, "n": n, "fractions": f,
+                        "n_breakup": c.n_breakup, "n_collision_breakup": c.n_collision_breakup,
+                        "n": n, "fractions": f,
                         "free_speed": c.free_speed,
                         "label": c.label().map(Label::as_str),
                     });

@@ -60,7 +60,7 @@ impl Shown<'_> {
     /// Replicates with a result, and of them the ones that collided.
     pub fn replicates(&self) -> (u64, u64) {
         self.counts().fold((0, 0), |(n, k), c| {
-            let collided = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+            let collided = c.collisions();
             (n + c.total(), k + collided)
         })
     }

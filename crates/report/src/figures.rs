@@ -66,7 +66,7 @@ pub fn diagram(results: &Results, (l, sigma): (u32, f64), fit: Option<&Fit>) -> 
         .enumerate()
         .filter(|(_, c)| c.L == l && c.sigma == sigma)
         .map(|(i, c)| {
-            let n = (c.n_train + c.n_walk + c.n_reversal + c.n_undetermined) as f64;
+            let n = c.collisions() as f64;
             let f = |k: u64| {
                 if c.collided() && n > 0.0 {
                     k as f64 / n
@@ -192,11 +192,14 @@ pub fn detail(c: &Counts, a: Option<&Assessment>) -> String {
         c.n_reversal,
         c.n_undetermined
     );
+    if c.n_collision_breakup > 0 {
+        out += &format!(", broke up in the collision {}", c.n_collision_breakup);
+    }
     if c.n_unstable + c.n_breakup > 0 {
         out += &format!(", unstable {}, breakup {}", c.n_unstable, c.n_breakup);
     }
     out += ")";
-    let collided = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+    let collided = c.collisions();
     if collided > 0 {
         let f = |k: u64| {
             let w = wilson(k, collided);

@@ -19,6 +19,7 @@ use tokio::sync::mpsc;
 use crate::error::RunError;
 use crate::ledger::{Ledger, Settlement};
 use crate::pool::{worker_task, Event, WorkerCommand};
+use crate::reserve::Reserve;
 use crate::wire::{PrepPayload, Request, Response};
 use crate::worker::remember;
 
@@ -90,6 +91,7 @@ fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, 
         (_, Some(Outcome::WalkPast)) => &mut outcomes.walk_past,
         (_, Some(Outcome::Reversal)) => &mut outcomes.reversal,
         (_, Some(Outcome::Undetermined)) => &mut outcomes.undetermined,
+        (_, Some(Outcome::Breakup)) => &mut outcomes.collision_breakup,
         ("unstable", None) => &mut outcomes.unstable,
         _ => &mut outcomes.breakup,
     };
@@ -329,6 +331,7 @@ pub async fn run_sweep(
     reporter: &mut dyn Reporter,
 ) -> Result<RunReport, RunError> {
     let recovered = store.recover_running(sweep_id, version)?;
+    let mut reserve = Reserve::beside(store.path());
     if recovered > 0 {
         reporter.note(&format!(
             "recovered {recovered} interrupted jobs and preps; they run again"
@@ -426,7 +429,10 @@ pub async fn run_sweep(
                     if w.requests.send(req).await.is_err() {
                         // The worker task is gone; its Dead event explains why.
                         if let Some(busy) = w.busy.take() {
-                            run.on_failure(busy, "worker process is gone")?;
+                            if let Err(e) = run.on_failure(busy, "worker process is gone") {
+                                fatal = Some(e);
+                                break;
+                            }
                         }
                     }
                 }
@@ -524,7 +530,12 @@ pub async fn run_sweep(
     for h in handles {
         let _ = h.await;
     }
-    let requeued = run.store.recover_running(sweep_id, version)?;
+    let requeued = match run.store.recover_running(sweep_id, version) {
+        Ok(n) => n,
+        // A full disk: give back the reserved room, and try once more.
+        Err(_) if reserve.release() => run.store.recover_running(sweep_id, version)?,
+        Err(e) => return Err(e.into()),
+    };
     if ending == Ending::Interrupted {
         reporter.note(&format!(
             "interrupted: {requeued} running jobs put back to pending; run again to resume"

@@ -78,6 +78,7 @@ fn verdict_record(
         threshold_speed: None,
         attachment: None,
         collision_steps: 0,
+        breakup_reason: None,
         wall_s: 0.0,
         classifier: classifier.to_string(),
         record: json!({
@@ -107,6 +108,7 @@ fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
         threshold_speed: r.threshold_speed,
         attachment: r.attachment.map(|[a, b]| [name(a), name(b)]),
         collision_steps: r.collision_steps,
+        breakup_reason: r.breakup_reason.clone(),
         wall_s,
         classifier: serde_json::to_string(&r.config.classifier).unwrap_or_default(),
         record: serde_json::to_string(r).unwrap_or_default(),
@@ -431,6 +433,28 @@ impl Ledger {
             return refuse(format!("parameters {} are not the job's", row.params));
         }
         let config: Config = serde_json::from_str(&job.config)?;
+        let steps = match config.protocol.validate(&config.params) {
+            Ok(steps) => steps,
+            Err(e) => return refuse(format!("the job's protocol: {e}")),
+        };
+        let end = steps.collide as f64 * config.params.dt;
+        for (field, t) in [
+            ("contact_time", row.contact_time),
+            ("decision_time", row.decision_time),
+        ] {
+            if t.is_some_and(|t| t > end * (1.0 + 1e-9)) {
+                return refuse(format!(
+                    "{field} = {} is after the collision's end at {end} tau0",
+                    t.unwrap_or_default()
+                ));
+            }
+        }
+        if row.collision_steps as u64 > steps.collide {
+            return refuse(format!(
+                "collision_steps = {} is more than the collision's {}",
+                row.collision_steps, steps.collide
+            ));
+        }
         if config.protocol.precision.as_str() != row.precision {
             return refuse(format!("precision {} is not the job's", row.precision));
         }
@@ -451,7 +475,8 @@ impl Ledger {
         let outcome_ok = match row.outcome.as_deref() {
             None => verdict != "ok",
             Some(o) => {
-                verdict == "ok" && ["train", "walk_past", "reversal", "undetermined"].contains(&o)
+                verdict == "ok"
+                    && ["train", "walk_past", "reversal", "undetermined", "breakup"].contains(&o)
             }
         };
         if row.verdict != verdict || !outcome_ok {
@@ -488,7 +513,9 @@ impl Ledger {
                 .clone()
                 .zip(row.attachment_2.clone())
                 .map(|(a, b)| [a, b]),
+            // (check_row refused a negative count.)
             collision_steps: row.collision_steps.max(0) as u64,
+            breakup_reason: row.breakup_reason.clone(),
             // The time the collision took where it ran (0: not recorded).
             wall_s: row
                 .wall_s

@@ -5,6 +5,12 @@
 //! lock when its holder dies (even by SIGKILL), so the next writer can take it at once, and
 //! work left `running` in the store then belongs to a dead holder: recovering it is safe. The
 //! file names the holder (pid, host, start time) for the message a second writer gets.
+//!
+//! The lock belongs to the database file, not to the name it was reached by: it sits beside the
+//! file's canonical path (symlinks, `./` and relative paths resolved), so two names of one file
+//! take one lock. A file with several hard links has several canonical paths, and SQLite itself
+//! would keep a different journal beside each name (its "how to corrupt" notes, multiple
+//! links): a writer refuses such a store.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read, Seek, Write};
@@ -18,6 +24,12 @@ pub enum LockError {
         "{path} is held by another cellsweep writer ({holder}); wait for it to finish or stop it"
     )]
     Held { path: PathBuf, holder: String },
+    #[error(
+        "{path} has {links} hard links: two writers could reach it by different names (and \
+         SQLite would keep a journal beside each); keep one name (a symlink is fine) and remove \
+         the others"
+    )]
+    HardLinked { path: PathBuf, links: u64 },
     #[error("cannot lock {path}: {source}")]
     Io {
         path: PathBuf,
@@ -41,9 +53,35 @@ impl StoreLock {
         PathBuf::from(name)
     }
 
-    /// Take the lock of the store at `db`, or say who holds it.
+    /// The one name of the database file at `db`: its canonical path (or, for a file still to
+    /// be created, its canonical directory's). Refuses a file with several hard links.
+    pub fn identity(db: &Path) -> Result<PathBuf, LockError> {
+        use std::os::unix::fs::MetadataExt as _;
+        if let Ok(meta) = std::fs::metadata(db) {
+            if meta.is_file() && meta.nlink() > 1 {
+                return Err(LockError::HardLinked {
+                    path: db.to_path_buf(),
+                    links: meta.nlink(),
+                });
+            }
+            if let Ok(real) = db.canonicalize() {
+                return Ok(real);
+            }
+        }
+        let dir = match db.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        match (dir.canonicalize(), db.file_name()) {
+            (Ok(dir), Some(name)) => Ok(dir.join(name)),
+            // (No such directory: the store's own open says so.)
+            _ => Ok(db.to_path_buf()),
+        }
+    }
+
+    /// Take the lock of the store at `db` (by whatever name), or say who holds it.
     pub fn acquire(db: &Path) -> Result<StoreLock, LockError> {
-        let path = Self::path_of(db);
+        let path = Self::path_of(&Self::identity(db)?);
         let io = |source| LockError::Io {
             path: path.clone(),
             source,

@@ -29,6 +29,7 @@ use crate::wire::{PrepPayload, Request, Response};
 pub struct SubmitOptions {
     pub run_dir: PathBuf,
     pub partition: Option<String>,
+    pub account: Option<String>,
     pub time: Option<String>,
     pub jobs_per_task: usize,
     /// Most array tasks running at once (`%N`).
@@ -79,8 +80,23 @@ pub fn shell_quote(s: &str) -> String {
 
 impl SubmitOptions {
     /// Every value that reaches a script must stay on its line: no newline, carriage return
-    /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command).
+    /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command);
+    /// the Slurm values must be in Slurm's own syntax.
     pub fn validate(&self) -> Result<(), SlurmError> {
+        use crate::slurm_syntax::{account, partition, sbatch_arg, time_limit};
+        let checks: [(&str, Option<&String>, fn(&str) -> Result<(), String>); 3] = [
+            ("--partition", self.partition.as_ref(), partition),
+            ("--account", self.account.as_ref(), account),
+            ("--time", self.time.as_ref(), time_limit),
+        ];
+        for (flag, value, check) in checks {
+            if let Some(v) = value {
+                check(v).map_err(|e| format!("{flag}: {e}; nothing was written"))?;
+            }
+        }
+        for a in &self.sbatch_args {
+            sbatch_arg(a).map_err(|e| format!("--sbatch-arg: {e}; nothing was written"))?;
+        }
         let mut values: Vec<(&str, String)> = vec![
             ("--run-dir", self.run_dir.display().to_string()),
             (
@@ -124,6 +140,9 @@ pub fn script(
     s += "#SBATCH --signal=B:USR1@120\n";
     if let Some(p) = &opts.partition {
         s += &format!("#SBATCH --partition={p}\n");
+    }
+    if let Some(a) = &opts.account {
+        s += &format!("#SBATCH --account={a}\n");
     }
     if let Some(t) = &opts.time {
         s += &format!("#SBATCH --time={t}\n");

@@ -10,6 +10,10 @@
 //!   threshold, for a sustained window, and the cells are no longer in contact;
 //! - `undetermined`: none of these by the end of the run.
 //!
+//! One more end comes from the fields, not the track: `breakup`, when a cell of the collision
+//! breaks up (the prep's rule, SPEC section 5), checked by the collision loop before each sample
+//! is classified ([`crate::collide`]); it is neither training, walk-past nor reversal.
+//!
 //! Velocities are centroid displacements over `velocity_window`. The threshold speed is
 //! `speed_fraction` times the prep cell's free speed, but never below `min_speed` (the noise alone
 //! moves a centroid by about v0 sqrt(dt W), far below it).
@@ -25,14 +29,17 @@ pub enum Outcome {
     WalkPast,
     Reversal,
     Undetermined,
+    /// A cell broke up during the collision (an artefact of the lattice, not a result).
+    Breakup,
 }
 
 impl Outcome {
-    pub const ALL: [Outcome; 4] = [
+    pub const ALL: [Outcome; 5] = [
         Outcome::Train,
         Outcome::WalkPast,
         Outcome::Reversal,
         Outcome::Undetermined,
+        Outcome::Breakup,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -41,6 +48,7 @@ impl Outcome {
             Outcome::WalkPast => "walk_past",
             Outcome::Reversal => "reversal",
             Outcome::Undetermined => "undetermined",
+            Outcome::Breakup => "breakup",
         }
     }
 }

@@ -13,7 +13,7 @@ use crate::noise::Noise;
 use crate::observables::{overlap, Attachment};
 use crate::params::Params;
 use crate::patch::{PatchStats, Patches};
-use crate::prep::Prep;
+use crate::prep::{breakup_reason, Prep};
 use crate::protocol::{Precision, Protocol, StageSteps};
 use crate::real::Real;
 
@@ -46,6 +46,8 @@ pub struct Collision {
     /// Each cell's fiber attachment at the decision (or at the end of the run).
     pub attachment: [Attachment; 2],
     pub threshold_speed: f64,
+    /// Why a cell broke up, when the outcome is `breakup` (which cell, and the rule it failed).
+    pub breakup_reason: Option<String>,
     /// Steps run (fewer than the protocol's when stopped early).
     pub steps: u64,
     /// What the per-cell windows did (`None` when they were off).
@@ -150,6 +152,7 @@ pub fn collide(
     };
     let Ended {
         decision,
+        breakup_reason,
         at_decision,
         done,
         patch,
@@ -164,6 +167,7 @@ pub fn collide(
             Attachment::of(&fibers, &at_decision[1]),
         ],
         threshold_speed: classifier.threshold_speed(),
+        breakup_reason,
         steps: done,
         patch,
         track,
@@ -173,6 +177,7 @@ pub fn collide(
 /// What a collision's stepping loop leaves behind.
 struct Ended {
     decision: Option<Decision>,
+    breakup_reason: Option<String>,
     /// Integrals of both cells at the decision (or at the end).
     at_decision: [Sums; 2],
     done: u64,
@@ -219,6 +224,7 @@ impl Run<'_> {
         let mut decision: Option<Decision> =
             classifier.observe(0.0, first.x[0], first.x[1], first.overlap);
         let mut at_decision: [Sums; 2] = [a.sums, b.sums];
+        let mut broke: Option<String> = None;
         let mut track = vec![first];
 
         monitor.stage(Stage::Collide, steps.collide);
@@ -258,8 +264,28 @@ impl Run<'_> {
             }
             done = n;
             let t = n as f64 * params.dt;
-            if !(a.sums.area.is_finite() && b.sums.area.is_finite()) {
-                return Err(SolverError::Diverged { time: t });
+            // Breakup first (SPEC section 5): every check interval, and at once when an area
+            // is no longer finite. It ends the collision like any other outcome.
+            let diverged = !(a.sums.area.is_finite() && b.sums.area.is_finite());
+            if decision.is_none() && (diverged || n % steps.check_every == 0) {
+                let broken = [&a, &b]
+                    .iter()
+                    .enumerate()
+                    .find_map(|(k, c)| Some((k, breakup_reason(lat, params, c)?)));
+                if let Some((k, why)) = broken {
+                    let d = Decision {
+                        outcome: Outcome::Breakup,
+                        time: t,
+                    };
+                    decision = Some(d);
+                    broke = Some(format!("cell {}: {why}", k + 1));
+                    at_decision = [a.sums, b.sums];
+                    monitor.decided(&d);
+                }
+            }
+            if diverged {
+                // Nothing further can be computed from non-finite fields.
+                break;
             }
             if n % steps.record_every == 0 || n == steps.collide {
                 // Unwrap the centroids from the previous sample's.
@@ -292,6 +318,7 @@ impl Run<'_> {
         }
         Ok(Ended {
             decision,
+            breakup_reason: broke,
             at_decision,
             done,
             patch: patches.map(|pt| pt.stats()),

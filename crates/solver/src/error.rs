@@ -88,8 +88,6 @@ pub enum NameError {
 pub enum SolverError {
     #[error(transparent)]
     Param(#[from] ParamError),
-    #[error("the collision diverged at t = {time} tau0 (a field became non-finite)")]
-    Diverged { time: f64 },
     #[error("prep fields do not match the single-cell lattice {nx} x {ny}")]
     PrepMismatch { nx: usize, ny: usize },
 }

@@ -58,8 +58,9 @@ impl FieldSummary {
 }
 
 /// Largest value of a field (NaN if any value is NaN).
-pub fn max_of(f: &[f64]) -> f64 {
+pub fn max_of<T: Real>(f: &[T]) -> f64 {
     f.iter().fold(f64::NEG_INFINITY, |m, &v| {
+        let v = v.to_f64();
         if v.is_nan() || m.is_nan() {
             f64::NAN
         } else {
@@ -69,8 +70,10 @@ pub fn max_of(f: &[f64]) -> f64 {
 }
 
 /// Whether every value of the fields is finite.
-pub fn all_finite(fields: &[&[f64]]) -> bool {
-    fields.iter().all(|f| f.iter().all(|v| v.is_finite()))
+pub fn all_finite<T: Real>(fields: &[&[T]]) -> bool {
+    fields
+        .iter()
+        .all(|f| f.iter().all(|v| v.to_f64().is_finite()))
 }
 
 /// Overlap O = sum phi_1 phi_2 of two fields on a lattice `nx` wide: summed column by column
@@ -87,9 +90,9 @@ pub fn overlap<T: Real>(nx: usize, a: &[T], b: &[T]) -> f64 {
 }
 
 /// Sizes of the 4-connected components (periodic in both directions) of the region phi > 0.5.
-pub fn components(lat: &Lattice, phi: &[f64]) -> Vec<usize> {
+pub fn components<T: Real>(lat: &Lattice, phi: &[T]) -> Vec<usize> {
     let (nx, ny) = (lat.nx, lat.ny);
-    let mut seen: Vec<bool> = phi.iter().map(|&v| v <= 0.5).collect();
+    let mut seen: Vec<bool> = phi.iter().map(|&v| v.to_f64() <= 0.5).collect();
     let mut sizes = Vec::new();
     let mut stack = Vec::new();
     for start in 0..phi.len() {

@@ -13,6 +13,7 @@ use crate::noise::Noise;
 use crate::observables::{all_finite, components, max_of, FieldSummary, LET_GO_FRACTION};
 use crate::params::{Geometry, Params};
 use crate::protocol::Protocol;
+use crate::real::Real;
 
 /// The verdict on a prepped cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -114,26 +115,7 @@ pub fn check_verdict(
     params: &Params,
     cell: &Cell,
 ) -> Option<(Verdict, String)> {
-    let half_area = 0.5 * PI * params.R0 * params.R0;
-    let max_phi = max_of(&cell.phi);
-    let broken = if !all_finite(&[&cell.phi, &cell.p]) {
-        Some("the fields are not finite (NaN or infinite values)".to_string())
-    } else if max_phi < 0.5 {
-        Some(format!("max phi = {max_phi:.4} < 0.5"))
-    } else if cell.sums.area < half_area {
-        Some(format!(
-            "S = {:.1} < 0.5 pi R0^2 = {half_area:.1}",
-            cell.sums.area
-        ))
-    } else {
-        let pieces = components(lat, &cell.phi)
-            .iter()
-            .filter(|&&n| n >= 10)
-            .count();
-        (pieces > 1)
-            .then(|| format!("the region phi > 0.5 is in {pieces} pieces of 10 or more sites"))
-    };
-    if let Some(why) = broken {
+    if let Some(why) = breakup_reason(lat, params, cell) {
         return Some((Verdict::Breakup, why));
     }
     if params.geometry == Geometry::Two && fibers.count() == 2 {
@@ -149,6 +131,32 @@ pub fn check_verdict(
         }
     }
     None
+}
+
+/// The breakup rule of SPEC sections 4 and 5, in words, or `None` while the cell is whole: a
+/// value that is not finite, max phi < 0.5, S < 0.5 pi R0^2, or the region phi > 0.5 in more
+/// than one 4-connected periodic piece of 10 or more sites. The prep checks it on its cell and
+/// the collision on each of its two (in the collision's precision).
+pub fn breakup_reason<T: Real>(lat: &Lattice, params: &Params, cell: &Cell<T>) -> Option<String> {
+    let half_area = 0.5 * PI * params.R0 * params.R0;
+    let max_phi = max_of(&cell.phi);
+    if !all_finite(&[&cell.phi, &cell.p]) || !cell.sums.area.is_finite() {
+        Some("the fields are not finite (NaN or infinite values)".to_string())
+    } else if max_phi < 0.5 {
+        Some(format!("max phi = {max_phi:.4} < 0.5"))
+    } else if cell.sums.area < half_area {
+        Some(format!(
+            "S = {:.1} < 0.5 pi R0^2 = {half_area:.1}",
+            cell.sums.area
+        ))
+    } else {
+        let pieces = components(lat, &cell.phi)
+            .iter()
+            .filter(|&&n| n >= 10)
+            .count();
+        (pieces > 1)
+            .then(|| format!("the region phi > 0.5 is in {pieces} pieces of 10 or more sites"))
+    }
 }
 
 /// Stages 1 to 4: relax, kick, free motion with noise from `seed`, and the verdict.

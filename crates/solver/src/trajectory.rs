@@ -53,6 +53,10 @@ pub struct TrajectoryResult {
     pub threshold_speed: Option<f64>,
     pub contact_time: Option<f64>,
     pub decision_time: Option<f64>,
+    /// Why a cell broke up, when the outcome is `breakup` (absent otherwise, and in records
+    /// written before the collision had a breakup check).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub breakup_reason: Option<String>,
     /// Fiber attachment of cell 1 and cell 2 after the collision.
     pub attachment: Option<[Attachment; 2]>,
     pub collision_steps: u64,
@@ -77,6 +81,7 @@ impl TrajectoryResult {
             threshold_speed: c.map(|c| c.threshold_speed),
             contact_time: c.and_then(|c| c.contact_time),
             decision_time: c.and_then(|c| c.decision_time),
+            breakup_reason: c.and_then(|c| c.breakup_reason.clone()),
             attachment: c.map(|c| c.attachment),
             collision_steps: c.map_or(0, |c| c.steps),
             patch: c.and_then(|c| c.patch),

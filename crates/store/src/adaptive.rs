@@ -6,8 +6,8 @@
 //! at a time, at most `max_replicates` in all, so it is looked at after at most
 //! K = 1 + ceil((max - min) / batch) rounds. At every look, each outcome's probability gets a
 //! Clopper-Pearson interval at level delta = error / (m K), m the number of outcome kinds a
-//! replicate can have (4: train, walk-past, reversal, undetermined; 6 where a point has several
-//! preps and some replicates can carry a prep verdict), and p_walk - p_train the interval
+//! replicate can have (5: train, walk-past, reversal, undetermined, a collision that broke up;
+//! 7 where a point has several preps and some replicates can carry a prep verdict), and p_walk - p_train the interval
 //! [lo_walk - hi_train, hi_walk - lo_train]. The point is **settled** when every probability
 //! vector inside those intervals has the same label (SPEC section 6, in probabilities):
 //! - dominant o: lo_o >= 0.55;
@@ -161,6 +161,9 @@ pub struct Bounds {
     pub walk_past: [f64; 2],
     pub reversal: [f64; 2],
     pub undetermined: [f64; 2],
+    /// Collisions in which a cell broke up.
+    #[serde(default)]
+    pub collision_breakup: [f64; 2],
     /// p_walk - p_train.
     pub walk_minus_train: [f64; 2],
 }
@@ -220,6 +223,7 @@ impl PointEnds {
                 End::Undetermined => &mut c.n_undetermined,
                 End::Unstable => &mut c.n_unstable,
                 End::Breakup => &mut c.n_breakup,
+                End::CollisionBreakup => &mut c.n_collision_breakup,
             } += 1;
         }
         c
@@ -257,17 +261,25 @@ pub fn look(c: &Counts, iv: &mut Intervals) -> (Bounds, Option<Label>, Option<i8
         walk_past: iv.get(c.n_walk, n),
         reversal: iv.get(c.n_reversal, n),
         undetermined: iv.get(c.n_undetermined, n),
+        collision_breakup: iv.get(c.n_collision_breakup, n),
         walk_minus_train: [
             iv.get(c.n_walk, n)[0] - iv.get(c.n_train, n)[1],
             iv.get(c.n_walk, n)[1] - iv.get(c.n_train, n)[0],
         ],
     };
-    let mut his = vec![b.train[1], b.walk_past[1], b.reversal[1], b.undetermined[1]];
+    let mut his = vec![
+        b.train[1],
+        b.walk_past[1],
+        b.reversal[1],
+        b.undetermined[1],
+        b.collision_breakup[1],
+    ];
     let mut outcomes = vec![
         (b.train, Label::Train),
         (b.walk_past, Label::WalkPast),
         (b.reversal, Label::Reversal),
         (b.undetermined, Label::Undetermined),
+        (b.collision_breakup, Label::Breakup),
     ];
     // Replicates decided by a prep verdict (several preps per point) are outcomes too.
     for (k, label) in [
@@ -306,12 +318,13 @@ pub fn look(c: &Counts, iv: &mut Intervals) -> (Bounds, Option<Label>, Option<i8
     (b, label, sign)
 }
 
-/// The outcome kinds a replicate of a sweep can have: 4, or 6 with several preps per point.
+/// The outcome kinds a replicate of a sweep can have: 5 (train, walk-past, reversal,
+/// undetermined, a collision that broke up), or 7 with several preps per point.
 pub fn kinds(preps_per_point: u32) -> u32 {
     if preps_per_point > 1 {
-        6
+        7
     } else {
-        4
+        5
     }
 }
 

@@ -20,7 +20,8 @@ use crate::phase::{Counts, Label};
 use crate::store::{seed_from_sql, Store};
 
 /// How one replicate ended: its collision's outcome, or its prep's verdict where the prep was
-/// not `ok` (no collision ran).
+/// not `ok` (no collision ran). `Breakup` is the prep's verdict; a collision in which a cell
+/// broke up is `CollisionBreakup`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum End {
@@ -30,16 +31,18 @@ pub enum End {
     Undetermined,
     Unstable,
     Breakup,
+    CollisionBreakup,
 }
 
 impl End {
-    pub const ALL: [End; 6] = [
+    pub const ALL: [End; 7] = [
         End::Train,
         End::WalkPast,
         End::Reversal,
         End::Undetermined,
         End::Unstable,
         End::Breakup,
+        End::CollisionBreakup,
     ];
 
     fn index(self) -> usize {
@@ -53,6 +56,7 @@ impl End {
             (_, Some("walk_past")) => Some(End::WalkPast),
             (_, Some("reversal")) => Some(End::Reversal),
             (_, Some("undetermined")) => Some(End::Undetermined),
+            (_, Some("breakup")) => Some(End::CollisionBreakup),
             ("unstable", None) => Some(End::Unstable),
             ("breakup", None) => Some(End::Breakup),
             _ => None,
@@ -136,7 +140,7 @@ impl Store {
 }
 
 /// Counts of each [`End`], in the order of [`End::ALL`].
-pub type EndCounts = [u64; 6];
+pub type EndCounts = [u64; End::ALL.len()];
 
 /// One grid point in both result sets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -248,7 +252,7 @@ pub fn compare(a: &[Replicate], b: &[Replicate]) -> Comparison {
 }
 
 fn counts_of(rs: &[&Replicate]) -> EndCounts {
-    let mut c = [0; 6];
+    let mut c = [0; 7];
     for r in rs {
         c[r.end.index()] += 1;
     }
@@ -267,6 +271,7 @@ fn label_of(c: &EndCounts, first: &Replicate) -> Option<Label> {
         n_undetermined: c[3],
         n_unstable: c[4],
         n_breakup: c[5],
+        n_collision_breakup: c[6],
         verdict: None,
         free_speed: None,
     }
@@ -334,7 +339,7 @@ fn l1_distance(points: &[Vec<(End, End)>], swapped: impl Fn(usize) -> bool) -> u
     let mut stat = 0;
     let mut i = 0;
     for pairs in points {
-        let mut diff = [0i64; 6];
+        let mut diff = [0i64; End::ALL.len()];
         for &(x, y) in pairs {
             let (x, y) = if swapped(i) { (y, x) } else { (x, y) };
             diff[x.index()] += 1;
@@ -411,8 +416,8 @@ pub fn permutation_test(a: &EndCounts, b: &EndCounts) -> f64 {
             let j = rng.random_range(i..pool.len());
             pool.swap(i, j);
         }
-        let mut pa = [0u64; 6];
-        let mut pb = [0u64; 6];
+        let mut pa = [0u64; End::ALL.len()];
+        let mut pb = [0u64; End::ALL.len()];
         for (i, &c) in pool.iter().enumerate() {
             if i < na {
                 pa[c] += 1;
@@ -484,13 +489,13 @@ mod tests {
 
     #[test]
     fn independent_samples_tell_equal_from_different_counts() {
-        let same = permutation_test(&[8, 8, 0, 0, 0, 0], &[8, 8, 0, 0, 0, 0]);
+        let same = permutation_test(&[8, 8, 0, 0, 0, 0, 0], &[8, 8, 0, 0, 0, 0, 0]);
         assert_eq!(same, 1.0);
-        let close = permutation_test(&[8, 8, 0, 0, 0, 0], &[9, 7, 0, 0, 0, 0]);
+        let close = permutation_test(&[8, 8, 0, 0, 0, 0, 0], &[9, 7, 0, 0, 0, 0, 0]);
         assert!(close > 0.5, "{close}");
         // 16/0 against 0/16: Fisher's exact two-sided p = 2 / C(32, 16) ~ 1.7e-9, far below
         // what the draws resolve: the smallest value they give.
-        let apart = permutation_test(&[16, 0, 0, 0, 0, 0], &[0, 16, 0, 0, 0, 0]);
+        let apart = permutation_test(&[16, 0, 0, 0, 0, 0, 0], &[0, 16, 0, 0, 0, 0, 0]);
         assert_eq!(apart, 1.0 / (1 + DRAWS) as f64);
     }
 
@@ -517,8 +522,8 @@ mod tests {
         let p10 = &c.points[0];
         assert_eq!((p10.beta, p10.matched, p10.alike), (10.0, 3, 2));
         assert_eq!(p10.test, Test::Paired);
-        assert_eq!(p10.counts_a, [2, 1, 0, 0, 0, 0]);
-        assert_eq!(p10.counts_b, [3, 0, 0, 0, 0, 0]);
+        assert_eq!(p10.counts_a, [2, 1, 0, 0, 0, 0, 0]);
+        assert_eq!(p10.counts_b, [3, 0, 0, 0, 0, 0, 0]);
         assert_eq!(p10.decision_shift_mean, Some(0.75));
         assert_eq!(p10.decision_shift_max, Some(1.0));
         assert_eq!(p10.p_value, 1.0, "one discordant pair can go either way");

@@ -15,7 +15,7 @@ pub enum StoreError {
     NotOurs { path: PathBuf, reason: String },
     #[error("{path} is corrupt or not a database ({reason}); it was left untouched")]
     Corrupt { path: PathBuf, reason: String },
-    #[error("{path} has schema version {found}, this build reads version {expected}")]
+    #[error("{path} has schema version {found}, this build reads versions 1 to {expected} (a newer cellsweep wrote it?)")]
     SchemaVersion {
         path: PathBuf,
         found: String,

@@ -11,10 +11,11 @@ use crate::error::Result;
 use crate::store::{seed_from_sql, Store};
 
 /// Version of the exported columns; bumped on any change to them. Format 2 added the wall
-/// times (`wall_s`, `prep_wall_s`); a format 1 file reads with them empty.
-pub const EXPORT_FORMAT: u32 = 2;
+/// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`.
+/// Older files read with the new columns empty.
+pub const EXPORT_FORMAT: u32 = 3;
 /// The formats this build reads.
-pub const READ_FORMATS: [u32; 2] = [1, 2];
+pub const READ_FORMATS: [u32; 3] = [1, 2, 3];
 
 /// One exported replicate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -52,6 +53,205 @@ pub struct ExportRow {
     /// Seconds the row's prep took (shared by the replicates of that prep).
     #[serde(default)]
     pub prep_wall_s: Option<f64>,
+    /// Why a cell of the collision broke up (outcome `breakup` only).
+    #[serde(default)]
+    pub breakup_reason: Option<String>,
+}
+
+/// Outcomes a collision can end in, as stored.
+pub const OUTCOMES: [&str; 5] = ["train", "walk_past", "reversal", "undetermined", "breakup"];
+/// Prep verdicts, as stored.
+pub const VERDICTS: [&str; 3] = ["ok", "unstable", "breakup"];
+/// A cell's fiber attachment after its collision, as stored.
+pub const ATTACHMENTS: [&str; 5] = ["both", "bottom", "top", "single", "detached"];
+
+impl ExportRow {
+    /// Every field whose value is impossible on its own or beside the row's other fields,
+    /// each as "field = value: why". Empty for a sound row. (Whether the row is the job's is
+    /// for the ledger to check against the store.)
+    pub fn field_problems(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut bad = |field: &str, value: &dyn std::fmt::Debug, why: &str| {
+            out.push(format!("{field} = {value:?}: {why}"));
+        };
+        let time = |t: Option<f64>| t.is_none_or(|t| t.is_finite() && t >= 0.0);
+        if !VERDICTS.contains(&self.verdict.as_str()) {
+            bad("verdict", &self.verdict, "not one of ok, unstable, breakup");
+        }
+        let collided = self.verdict == "ok";
+        match self.outcome.as_deref() {
+            Some(o) if !OUTCOMES.contains(&o) => bad(
+                "outcome",
+                &o,
+                "not one of train, walk_past, reversal, undetermined, breakup",
+            ),
+            None if collided => bad(
+                "outcome",
+                &"",
+                "a collision ran (verdict ok) but has no outcome",
+            ),
+            Some(o) if !collided => bad(
+                "outcome",
+                &o,
+                "no collision runs from a prep that is not ok",
+            ),
+            _ => {}
+        }
+        if !time(self.contact_time) {
+            bad("contact_time", &self.contact_time, "not a finite time >= 0");
+        }
+        if !time(self.decision_time) {
+            bad(
+                "decision_time",
+                &self.decision_time,
+                "not a finite time >= 0",
+            );
+        }
+        let decided = matches!(
+            self.outcome.as_deref(),
+            Some("train" | "walk_past" | "reversal" | "breakup")
+        );
+        if decided && self.decision_time.is_none() {
+            bad("decision_time", &"", "a decided outcome needs its time");
+        }
+        if !decided && self.decision_time.is_some() {
+            bad(
+                "decision_time",
+                &self.decision_time,
+                "an undecided replicate has no decision time",
+            );
+        }
+        for (field, a) in [
+            ("attachment_1", &self.attachment_1),
+            ("attachment_2", &self.attachment_2),
+        ] {
+            match a.as_deref() {
+                Some(v) if !ATTACHMENTS.contains(&v) => {
+                    bad(field, &v, "not one of both, bottom, top, single, detached")
+                }
+                None if collided => {
+                    bad(field, &"", "a collision ran but its attachment is missing")
+                }
+                Some(v) if !collided => bad(field, &v, "no collision ran"),
+                _ => {}
+            }
+        }
+        if self.free_speed.is_some_and(|v| !v.is_finite()) {
+            bad("free_speed", &self.free_speed, "not a finite speed");
+        }
+        if collided && self.free_speed.is_none() {
+            bad(
+                "free_speed",
+                &"",
+                "a collided replicate's prep has a free speed",
+            );
+        }
+        match self.threshold_speed {
+            Some(v) if !(v.is_finite() && v >= 0.0) => {
+                bad("threshold_speed", &v, "not a finite speed >= 0")
+            }
+            None if collided => bad("threshold_speed", &"", "a collision has a threshold speed"),
+            _ => {}
+        }
+        if self.collision_steps < 0 || (!collided && self.collision_steps != 0) {
+            bad(
+                "collision_steps",
+                &self.collision_steps,
+                "steps are >= 0, and 0 where no collision ran",
+            );
+        }
+        let broke = self.outcome.as_deref() == Some("breakup");
+        match self.breakup_reason.as_deref() {
+            None | Some("") if broke => bad("breakup_reason", &"", "a breakup keeps its reason"),
+            Some(r) if !r.is_empty() && !broke => bad(
+                "breakup_reason",
+                &r,
+                "only a collision that broke up has one",
+            ),
+            _ => {}
+        }
+        for (field, w) in [("wall_s", self.wall_s), ("prep_wall_s", self.prep_wall_s)] {
+            if !time(w) {
+                bad(field, &w, "not a finite time >= 0");
+            }
+        }
+        out
+    }
+
+    /// The result fields of two rows of one job that differ, each as (field, this, other);
+    /// wall times (where the rows were made) are not results.
+    pub fn result_differences(&self, other: &ExportRow) -> Vec<(&'static str, String, String)> {
+        let mut out = Vec::new();
+        let mut cmp = |field: &'static str, a: String, b: String| {
+            if a != b {
+                out.push((field, a, b));
+            }
+        };
+        let opt = |v: &Option<String>| v.clone().unwrap_or_default();
+        let num = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:?}"));
+        cmp("verdict", self.verdict.clone(), other.verdict.clone());
+        cmp("outcome", opt(&self.outcome), opt(&other.outcome));
+        cmp(
+            "contact_time",
+            num(self.contact_time),
+            num(other.contact_time),
+        );
+        cmp(
+            "decision_time",
+            num(self.decision_time),
+            num(other.decision_time),
+        );
+        cmp(
+            "attachment_1",
+            opt(&self.attachment_1),
+            opt(&other.attachment_1),
+        );
+        cmp(
+            "attachment_2",
+            opt(&self.attachment_2),
+            opt(&other.attachment_2),
+        );
+        cmp("free_speed", num(self.free_speed), num(other.free_speed));
+        cmp(
+            "threshold_speed",
+            num(self.threshold_speed),
+            num(other.threshold_speed),
+        );
+        cmp(
+            "collision_steps",
+            self.collision_steps.to_string(),
+            other.collision_steps.to_string(),
+        );
+        cmp(
+            "breakup_reason",
+            opt(&self.breakup_reason),
+            opt(&other.breakup_reason),
+        );
+        cmp(
+            "prep_seed",
+            self.prep_seed.to_string(),
+            other.prep_seed.to_string(),
+        );
+        cmp(
+            "collision_seed",
+            self.collision_seed.to_string(),
+            other.collision_seed.to_string(),
+        );
+        cmp("prep_hash", self.prep_hash.clone(), other.prep_hash.clone());
+        cmp(
+            "classifier",
+            self.classifier.clone(),
+            other.classifier.clone(),
+        );
+        cmp(
+            "solver_version",
+            self.solver_version.clone(),
+            other.solver_version.clone(),
+        );
+        cmp("params", self.params.clone(), other.params.clone());
+        cmp("precision", self.precision.clone(), other.precision.clone());
+        out
+    }
 }
 
 /// JSON of the parameters of a point's configuration (`{"params": {...}, ...}`) that differ
@@ -82,16 +282,22 @@ impl Store {
                 .query_row("SELECT name FROM sweeps WHERE id = ?1", [sweep_id], |r| {
                     r.get(0)
                 })?;
-        let mut q = self.conn.prepare(
+        // (A version 1 store, opened as it is by a reader, has no breakup reasons.)
+        let reason = if self.schema >= 2 {
+            "r.breakup_reason"
+        } else {
+            "NULL"
+        };
+        let mut q = self.conn.prepare(&format!(
             "SELECT p.alpha, p.beta, p.L, p.sigma, p.params, j.replicate, pr.id, pr.seed, j.seed,
                     r.verdict, r.outcome, r.contact_time, r.decision_time, r.attachment_1,
                     r.attachment_2, r.free_speed, r.threshold_speed, r.collision_steps,
-                    r.solver_version, r.classifier, r.wall_s, pr.wall_s
+                    r.solver_version, r.classifier, r.wall_s, pr.wall_s, {reason}
              FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
              JOIN preps pr ON pr.id = j.prep_id
              WHERE p.sweep_id = ?1 AND r.solver_version = ?2
-             ORDER BY p.idx, j.replicate",
-        )?;
+             ORDER BY p.idx, j.replicate"
+        ))?;
         let mut hashes: HashMap<i64, String> = HashMap::new();
         let mut out = Vec::new();
         let mut rows = q.query(params![sweep_id, version])?;
@@ -130,6 +336,7 @@ impl Store {
                 // Zero or absent: not measured (a row imported from format 1).
                 wall_s: r.get::<_, Option<f64>>(20)?.filter(|&w| w > 0.0),
                 prep_wall_s: r.get::<_, Option<f64>>(21)?.filter(|&w| w > 0.0),
+                breakup_reason: r.get(22)?,
             });
         }
         Ok(out)

@@ -262,7 +262,7 @@ pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64
     counts
         .iter()
         .map(|c| {
-            let n = c.n_train + c.n_walk + c.n_reversal + c.n_undetermined;
+            let n = c.collisions();
             if n == 0 {
                 return 0;
             }

@@ -7,6 +7,7 @@
 //! The schema is in [`schema::DDL`].
 
 pub mod adaptive;
+mod atomic;
 pub mod binomial;
 pub mod compare;
 pub mod digest;

@@ -82,6 +82,10 @@ pub struct Counts {
     pub n_unstable: u64,
     /// Replicates decided by a `breakup` prep (no collision).
     pub n_breakup: u64,
+    /// Collisions in which a cell broke up (SPEC section 5): collisions, counted in every
+    /// share, but neither training, walk-past nor reversal.
+    #[serde(default)]
+    pub n_collision_breakup: u64,
     /// A prep verdict given for the whole point (counts files), overriding the counts.
     pub verdict: Option<Label>,
     /// Mean free speed of the point's prepped cells, where known.
@@ -104,6 +108,7 @@ impl Counts {
             n_undetermined: 0,
             n_unstable: 0,
             n_breakup: 0,
+            n_collision_breakup: 0,
             verdict: None,
             free_speed: None,
         }
@@ -111,12 +116,16 @@ impl Counts {
 
     /// All replicates with a result.
     pub fn total(&self) -> u64 {
+        self.collisions() + self.n_unstable + self.n_breakup
+    }
+
+    /// Replicates whose collision ran, whatever it ended in: the base of every share.
+    pub fn collisions(&self) -> u64 {
         self.n_train
             + self.n_walk
             + self.n_reversal
             + self.n_undetermined
-            + self.n_unstable
-            + self.n_breakup
+            + self.n_collision_breakup
     }
 
     /// The label by SPEC section 6: a prep verdict carries the point; an outcome in at least
@@ -135,6 +144,7 @@ impl Counts {
         for (k, label) in [
             (self.n_unstable, Label::Unstable),
             (self.n_breakup, Label::Breakup),
+            (self.n_collision_breakup, Label::Breakup),
             (self.n_train, Label::Train),
             (self.n_walk, Label::WalkPast),
             (self.n_reversal, Label::Reversal),

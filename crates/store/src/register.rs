@@ -2,7 +2,7 @@
 //! or changes its adaptive rule in place, or a different one under a taken name (refused, or
 //! archived with `--replace`).
 
-use rusqlite::{params, OptionalExtension, TransactionBehavior};
+use rusqlite::{params, OptionalExtension};
 
 use crate::error::{Result, StoreError};
 use crate::store::{now, seed_to_sql, NewSweep, Registration, Store};
@@ -12,9 +12,7 @@ impl Store {
     /// exists for its solver version. A different sweep under an existing name is refused unless
     /// `replace`, which renames the old sweep (its results stay) and registers the new one.
     pub fn register(&mut self, sweep: &NewSweep, replace: bool) -> Result<Registration> {
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)?;
+        let tx = self.write()?;
         let existing: Option<(i64, String)> = tx
             .query_row(
                 "SELECT id, spec FROM sweeps WHERE name = ?1",
@@ -186,7 +184,7 @@ fn spec_change(stored: &str, new: &str) -> SpecChange {
     }
 }
 
-fn insert_sweep(tx: &rusqlite::Transaction<'_>, sweep: &NewSweep) -> Result<i64> {
+fn insert_sweep(tx: &rusqlite::Connection, sweep: &NewSweep) -> Result<i64> {
     tx.execute(
         "INSERT INTO sweeps (name, spec, source, created_at) VALUES (?1, ?2, ?3, ?4)",
         params![sweep.name, sweep.spec, sweep.source, now()],

@@ -1,7 +1,12 @@
 //! The store's schema. Documented for users in the README ("The store").
 
-/// Version of the layout below; bumped on incompatible changes.
-pub const SCHEMA_VERSION: u32 = 1;
+/// Version of the layout below; bumped on incompatible changes. Version 2 lets a collision end
+/// in `breakup` (SPEC section 5) and keeps its reason; a version 1 store is migrated by the
+/// first writer that opens it ([`MIGRATE_1_TO_2`]) and read as it is by the readers.
+pub const SCHEMA_VERSION: u32 = 2;
+
+/// Versions a reader opens as they are.
+pub const READ_SCHEMAS: [u32; 2] = [1, 2];
 
 /// Identifies a cellsweep database in its `meta` table.
 pub const APPLICATION: &str = "cellsweep";
@@ -79,7 +84,8 @@ CREATE TABLE results (
     job_id          INTEGER PRIMARY KEY REFERENCES jobs(id),
     solver_version  TEXT NOT NULL,
     verdict         TEXT NOT NULL CHECK (verdict IN ('ok', 'unstable', 'breakup')),
-    outcome         TEXT CHECK (outcome IN ('train', 'walk_past', 'reversal', 'undetermined')),
+    outcome         TEXT CHECK (outcome IN ('train', 'walk_past', 'reversal', 'undetermined',
+                                        'breakup')),
     contact_time    REAL,
     decision_time   REAL,
     free_speed      REAL,
@@ -90,7 +96,9 @@ CREATE TABLE results (
     wall_s          REAL,
     classifier      TEXT NOT NULL,
     record          TEXT NOT NULL,
-    finished_at     REAL NOT NULL
+    finished_at     REAL NOT NULL,
+    -- Why a cell of the collision broke up (outcome 'breakup' only).
+    breakup_reason  TEXT
 );
 
 -- Slurm job arrays submitted for a sweep (`cellsweep submit`).
@@ -109,4 +117,37 @@ CREATE TABLE slurm_arrays (
 CREATE INDEX jobs_by_point ON jobs(point_id, solver_version, state);
 CREATE INDEX jobs_by_prep ON jobs(prep_id, state);
 CREATE INDEX points_by_sweep ON points(sweep_id);
+"#;
+
+/// Version 1 to 2: `results` gains the outcome `breakup` (SQLite cannot change a CHECK in
+/// place, so the table is rebuilt with its rows) and the column `breakup_reason`.
+pub const MIGRATE_1_TO_2: &str = r#"
+CREATE TABLE results_v2 (
+    job_id          INTEGER PRIMARY KEY REFERENCES jobs(id),
+    solver_version  TEXT NOT NULL,
+    verdict         TEXT NOT NULL CHECK (verdict IN ('ok', 'unstable', 'breakup')),
+    outcome         TEXT CHECK (outcome IN ('train', 'walk_past', 'reversal', 'undetermined',
+                                        'breakup')),
+    contact_time    REAL,
+    decision_time   REAL,
+    free_speed      REAL,
+    threshold_speed REAL,
+    attachment_1    TEXT,
+    attachment_2    TEXT,
+    collision_steps INTEGER,
+    wall_s          REAL,
+    classifier      TEXT NOT NULL,
+    record          TEXT NOT NULL,
+    finished_at     REAL NOT NULL,
+    breakup_reason  TEXT
+);
+INSERT INTO results_v2 (job_id, solver_version, verdict, outcome, contact_time, decision_time,
+    free_speed, threshold_speed, attachment_1, attachment_2, collision_steps, wall_s, classifier,
+    record, finished_at)
+  SELECT job_id, solver_version, verdict, outcome, contact_time, decision_time, free_speed,
+    threshold_speed, attachment_1, attachment_2, collision_steps, wall_s, classifier, record,
+    finished_at FROM results;
+DROP TABLE results;
+ALTER TABLE results_v2 RENAME TO results;
+UPDATE meta SET value = '2' WHERE key = 'schema_version';
 "#;

@@ -50,7 +50,7 @@ impl Store {
     /// A checked result (see the scheduler's ledger): a job that is not yet done becomes done
     /// with it, in one transaction; a job already done is left alone. Returns whether it was new.
     pub fn collect_result(&mut self, job_id: i64, version: &str, r: &ResultRecord) -> Result<bool> {
-        let tx = self.conn.transaction()?;
+        let tx = self.write()?;
         let t = now();
         let n = tx.execute(
             "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL
@@ -67,19 +67,22 @@ impl Store {
 
     /// A prep read from a Slurm prep file; idempotent like [`Store::collect_result`].
     pub fn collect_prep(&mut self, prep_id: i64, r: &PrepRecord) -> Result<bool> {
-        let done: String =
-            self.conn
-                .query_row("SELECT state FROM preps WHERE id = ?1", [prep_id], |r| {
-                    r.get(0)
-                })?;
-        if done == "done" {
-            return Ok(false);
-        }
-        self.conn.execute(
-            "UPDATE preps SET state = 'running' WHERE id = ?1",
-            [prep_id],
-        )?;
-        self.commit_prep(prep_id, r)?;
-        Ok(true)
+        self.atomically(|store| {
+            let state: String =
+                store
+                    .conn
+                    .query_row("SELECT state FROM preps WHERE id = ?1", [prep_id], |r| {
+                        r.get(0)
+                    })?;
+            if state == "done" {
+                return Ok(false);
+            }
+            store.conn.execute(
+                "UPDATE preps SET state = 'running' WHERE id = ?1",
+                [prep_id],
+            )?;
+            store.commit_prep(prep_id, r)?;
+            Ok(true)
+        })
     }
 }

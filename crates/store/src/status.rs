@@ -32,6 +32,9 @@ pub struct OutcomeCounts {
     pub undetermined: i64,
     pub unstable: i64,
     pub breakup: i64,
+    /// Collisions in which a cell broke up (SPEC section 5).
+    #[serde(default)]
+    pub collision_breakup: i64,
 }
 
 impl OutcomeCounts {
@@ -44,6 +47,7 @@ impl OutcomeCounts {
             End::Undetermined => &mut self.undetermined,
             End::Unstable => &mut self.unstable,
             End::Breakup => &mut self.breakup,
+            End::CollisionBreakup => &mut self.collision_breakup,
         };
         *slot += n;
     }
@@ -295,7 +299,7 @@ impl Store {
     /// Put a sweep's failed jobs and preps back to pending with their attempts reset (their
     /// errors are kept until they run again). Returns how many.
     pub fn retry_failed(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
-        let tx = self.conn.transaction()?;
+        let tx = self.write()?;
         let preps = tx.execute(
             "UPDATE preps SET state = 'pending', attempts = 0
              WHERE state = 'failed' AND solver_version = ?2 AND id IN (

@@ -8,7 +8,7 @@ use rusqlite::{params, Connection, ErrorCode, OpenFlags, OptionalExtension};
 
 use crate::error::{Result, StoreError};
 use crate::lifecycle::JobState;
-use crate::schema::{APPLICATION, DDL, SCHEMA_VERSION};
+use crate::schema::{APPLICATION, DDL, MIGRATE_1_TO_2, READ_SCHEMAS, SCHEMA_VERSION};
 
 /// Seconds since the Unix epoch.
 pub fn now() -> f64 {
@@ -41,6 +41,9 @@ pub fn bytes_to_f64s(b: &[u8]) -> Vec<f64> {
 pub struct Store {
     pub(crate) conn: Connection,
     path: PathBuf,
+    /// The layout of the file as opened: [`SCHEMA_VERSION`], or an older one a reader opened
+    /// as it is (see `schema::READ_SCHEMAS`).
+    pub(crate) schema: u32,
 }
 
 /// A sweep to register: its points, their jobs, and the preps they start from.
@@ -145,6 +148,8 @@ pub struct ResultRecord {
     pub threshold_speed: Option<f64>,
     pub attachment: Option<[String; 2]>,
     pub collision_steps: u64,
+    /// Why a cell broke up (outcome `breakup` only).
+    pub breakup_reason: Option<String>,
     pub wall_s: f64,
     /// JSON of the classifier settings.
     pub classifier: String,
@@ -180,6 +185,7 @@ impl Store {
         let mut store = Store {
             conn,
             path: path.to_path_buf(),
+            schema: SCHEMA_VERSION,
         };
         store.configure()?;
         let tx = store.conn.transaction()?;
@@ -228,9 +234,10 @@ impl Store {
                 path: path.to_path_buf(),
                 reason: e.to_string(),
             })?;
-        let store = Store {
+        let mut store = Store {
             conn,
             path: path.to_path_buf(),
+            schema: SCHEMA_VERSION,
         };
         // Any SQLite error while reading what the file is means it is not a sound store.
         let named = |e: StoreError| match e {
@@ -240,8 +247,11 @@ impl Store {
             },
             other => other,
         };
-        store.check_identity().map_err(named)?;
+        store.schema = store.check_identity().map_err(named)?;
         store.configure().map_err(named)?;
+        if store.schema != SCHEMA_VERSION && mode.contains(OpenFlags::SQLITE_OPEN_READ_WRITE) {
+            store.migrate()?;
+        }
         Ok(store)
     }
 
@@ -273,7 +283,21 @@ impl Store {
         })
     }
 
-    fn check_identity(&self) -> Result<()> {
+    /// Bring a store of an older layout to [`SCHEMA_VERSION`], in one transaction.
+    fn migrate(&mut self) -> Result<()> {
+        let tx = self
+            .conn
+            .transaction_with_behavior(rusqlite::TransactionBehavior::Immediate)?;
+        if self.schema == 1 {
+            tx.execute_batch(MIGRATE_1_TO_2)?;
+        }
+        tx.commit()?;
+        self.schema = SCHEMA_VERSION;
+        Ok(())
+    }
+
+    /// That the file is a cellsweep store of a layout this build reads; returns the layout.
+    fn check_identity(&self) -> Result<u32> {
         let corrupt = |e: rusqlite::Error| StoreError::Corrupt {
             path: self.path.clone(),
             reason: e.to_string(),
@@ -312,14 +336,14 @@ impl Store {
             });
         }
         let version = get("schema_version")?.unwrap_or_default();
-        if version != SCHEMA_VERSION.to_string() {
-            return Err(StoreError::SchemaVersion {
+        match version.parse::<u32>() {
+            Ok(v) if READ_SCHEMAS.contains(&v) => Ok(v),
+            _ => Err(StoreError::SchemaVersion {
                 path: self.path.clone(),
                 found: version,
                 expected: SCHEMA_VERSION,
-            });
+            }),
         }
-        Ok(())
     }
 
     fn configure(&self) -> Result<()> {
@@ -387,7 +411,7 @@ impl Store {
 
     /// running -> done for a job, with its result, in one transaction.
     pub fn commit_result(&mut self, job_id: i64, version: &str, r: &ResultRecord) -> Result<()> {
-        let tx = self.conn.transaction()?;
+        let tx = self.write()?;
         let t = now();
         let n = tx.execute(
             "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL WHERE id = ?1 AND state = 'running'",
@@ -457,7 +481,7 @@ impl Store {
         version: &str,
         r: &ResultRecord,
     ) -> Result<usize> {
-        let tx = self.conn.transaction()?;
+        let tx = self.write()?;
         let ids: Vec<i64> = {
             let mut q = tx.prepare(
                 "SELECT j.id FROM jobs j JOIN points p ON p.id = j.point_id
@@ -480,7 +504,7 @@ impl Store {
 }
 
 pub(crate) fn insert_result(
-    tx: &rusqlite::Transaction<'_>,
+    tx: &Connection,
     job_id: i64,
     version: &str,
     r: &ResultRecord,
@@ -493,8 +517,8 @@ pub(crate) fn insert_result(
     tx.execute(
         "INSERT INTO results (job_id, solver_version, verdict, outcome, contact_time, decision_time,
              free_speed, threshold_speed, attachment_1, attachment_2, collision_steps, wall_s,
-             classifier, record, finished_at)
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
+             classifier, record, finished_at, breakup_reason)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)",
         params![
             job_id,
             version,
@@ -510,7 +534,8 @@ pub(crate) fn insert_result(
             r.wall_s,
             r.classifier,
             r.record,
-            t
+            t,
+            r.breakup_reason
         ],
     )?;
     Ok(())

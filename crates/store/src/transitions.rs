@@ -12,7 +12,7 @@ impl Store {
     /// Put the sweep's `running` preps and jobs of `version` back to `pending`: a coordinator that
     /// was killed or interrupted did not finish them. Returns how many were recovered.
     pub fn recover_running(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
-        let tx = self.conn.transaction()?;
+        let tx = self.write()?;
         let jobs = tx.execute(
             "UPDATE jobs SET state = 'pending', started_at = NULL
              WHERE state = 'running' AND solver_version = ?2

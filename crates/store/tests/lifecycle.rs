@@ -55,6 +55,7 @@ fn record(outcome: &str) -> ResultRecord {
         threshold_speed: Some(0.125),
         attachment: Some(["both".into(), "both".into()]),
         collision_steps: 10,
+        breakup_reason: None,
         wall_s: 0.1,
         classifier: "{}".into(),
         record: "{}".into(),

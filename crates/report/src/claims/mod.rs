@@ -57,7 +57,7 @@ pub struct Claim {
 }
 
 pub(super) fn collided(c: &Counts) -> u64 {
-    c.n_train + c.n_walk + c.n_reversal + c.n_undetermined
+    c.collisions()
 }
 
 pub(super) fn pct(k: u64, n: u64) -> String {

@@ -96,7 +96,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
     assert!(lines
         .next()
         .unwrap()
-        .starts_with("# cellsweep export format 2"));
+        .starts_with("# cellsweep export format 3"));
     assert!(lines.next().unwrap().starts_with("# spec {"));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
@@ -198,7 +198,12 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
             err.contains("refused") && err.contains("nothing was imported"),
             "{k}: {err}"
         );
-        assert_eq!(count(&db3, "SELECT COUNT(*) FROM results"), 0);
+        // All or nothing: not even the store the import would have created is left.
+        assert!(
+            !db3.exists(),
+            "{k}: a refused import left {}",
+            db3.display()
+        );
     }
     assert_eq!(header[20], "prep_hash");
 

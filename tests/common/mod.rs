@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 /// An adaptive rule for tiny sweeps whose 2 tau0 collisions are always `undetermined`: with
-/// batch 4, min 4, a budget of 16 and error 0.05 (delta = 0.05 / 16 per interval), a point of n
+/// batch 4, min 4, a budget of 16 and error 0.05 (delta = 0.05 / 20 per interval: 5 outcome kinds, 4 looks), a point of n
 /// undetermined replicates is settled once (delta/2)^(1/n) >= 0.55, at n = 12.
 pub const ADAPTIVE: &str = "[adaptive]\nbatch = 4\nmin_replicates = 4\nerror = 0.05\n";
 

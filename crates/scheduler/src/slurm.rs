@@ -83,6 +83,25 @@ impl SubmitOptions {
     /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command);
     /// the Slurm values must be in Slurm's own syntax.
     pub fn validate(&self) -> Result<(), SlurmError> {
+        let mut values: Vec<(&str, String)> = vec![
+            ("--run-dir", self.run_dir.display().to_string()),
+            (
+                "the cellsweep executable's path",
+                self.exe.display().to_string(),
+            ),
+        ];
+        values.extend(self.partition.iter().map(|p| ("--partition", p.clone())));
+        values.extend(self.account.iter().map(|a| ("--account", a.clone())));
+        values.extend(self.time.iter().map(|t| ("--time", t.clone())));
+        values.extend(self.sbatch_args.iter().map(|a| ("--sbatch-arg", a.clone())));
+        for (flag, v) in values {
+            if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
+                return Err(format!(
+                    "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
+                )
+                .into());
+            }
+        }
         use crate::slurm_syntax::{account, partition, sbatch_arg, time_limit};
         let checks: [(&str, Option<&String>, fn(&str) -> Result<(), String>); 3] = [
             ("--partition", self.partition.as_ref(), partition),
@@ -96,24 +115,6 @@ impl SubmitOptions {
         }
         for a in &self.sbatch_args {
             sbatch_arg(a).map_err(|e| format!("--sbatch-arg: {e}; nothing was written"))?;
-        }
-        let mut values: Vec<(&str, String)> = vec![
-            ("--run-dir", self.run_dir.display().to_string()),
-            (
-                "the cellsweep executable's path",
-                self.exe.display().to_string(),
-            ),
-        ];
-        values.extend(self.partition.iter().map(|p| ("--partition", p.clone())));
-        values.extend(self.time.iter().map(|t| ("--time", t.clone())));
-        values.extend(self.sbatch_args.iter().map(|a| ("--sbatch-arg", a.clone())));
-        for (flag, v) in values {
-            if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
-                return Err(format!(
-                    "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
-                )
-                .into());
-            }
         }
         Ok(())
     }

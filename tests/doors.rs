@@ -1,0 +1,298 @@
+//! Nothing wrong enters at any door (issue 26), through the real binary: one writer per database
+//! file whatever name reaches it, an import that lands whole or not at all (conflicts and
+//! impossible fields refused and named), and a full disk that leaves no job `running`.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::{cellsweep_in, query, workdir, write_sweep};
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
+/// Refused: non-zero, and stderr's last line names `needle`.
+fn refused(out: &Output, needle: &str) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "accepted, wanted {needle:?}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains(needle), "{needle:?} not in {err}");
+    err
+}
+
+/// A finished tiny sweep (2 points x 2 sigmas x 2 replicates) in `dir/r.sqlite`, exported to
+/// `dir/e.csv`; returns the export's text.
+fn exported(dir: &Path) -> String {
+    write_sweep(dir, "door", 2, "");
+    ok(&cellsweep_in(
+        dir,
+        &["run", "door.toml", "--db", "r.sqlite"],
+    ));
+    ok(&cellsweep_in(
+        dir,
+        &["export", "--db", "r.sqlite", "--out", "e.csv"],
+    ));
+    std::fs::read_to_string(dir.join("e.csv")).unwrap()
+}
+
+/// The export with one field of its first data row set to `value`.
+fn with_field(text: &str, field: &str, value: &str) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let header: Vec<&str> = lines[2].split(',').collect();
+    let k = header.iter().position(|h| *h == field).unwrap();
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(lines[3].as_bytes());
+    let mut row: Vec<String> = reader
+        .records()
+        .next()
+        .unwrap()
+        .unwrap()
+        .iter()
+        .map(String::from)
+        .collect();
+    row[k] = value.to_string();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(&row).unwrap();
+    let row = String::from_utf8(w.into_inner().unwrap()).unwrap();
+    let mut out: Vec<String> = lines[..3].iter().map(|l| l.to_string()).collect();
+    out.push(row.trim_end().to_string());
+    out.extend(lines[4..].iter().map(|l| l.to_string()));
+    out.join("\n") + "\n"
+}
+
+#[test]
+fn an_import_is_all_or_nothing_and_names_each_problem() {
+    let dir = workdir("doors", "import");
+    let text = exported(&dir);
+    let cases: Vec<(String, &str)> = vec![
+        (
+            with_field(&text, "collision_seed", "12345"),
+            "collision seed",
+        ),
+        (with_field(&text, "decision_time", "-1"), "decision_time"),
+        (
+            with_field(&text, "attachment_1", "nonsense"),
+            "attachment_1",
+        ),
+        (with_field(&text, "free_speed", "NaN"), "free_speed"),
+        (
+            with_field(&text, "collision_steps", "-1"),
+            "collision_steps",
+        ),
+        (with_field(&text, "outcome", "breakup"), "breakup_reason"),
+    ];
+    for (k, (bad, needle)) in cases.iter().enumerate() {
+        let file = format!("bad{k}.csv");
+        std::fs::write(dir.join(&file), bad).unwrap();
+        // Into a fresh store: refused, and no store is left behind.
+        let out = cellsweep_in(&dir, &["import", &file, "--db", "fresh.sqlite"]);
+        refused(&out, needle);
+        assert!(
+            !dir.join("fresh.sqlite").exists(),
+            "case {k}: a store was left"
+        );
+        // Into the store that holds these jobs: refused, byte for byte as it was.
+        let before = std::fs::read(dir.join("r.sqlite")).unwrap();
+        let out = cellsweep_in(&dir, &["import", &file, "--db", "r.sqlite"]);
+        refused(&out, needle);
+        assert_eq!(
+            std::fs::read(dir.join("r.sqlite")).unwrap(),
+            before,
+            "case {k}"
+        );
+    }
+    // One replicate twice in a file, with two outcomes: refused, naming both.
+    let lines: Vec<&str> = text.lines().collect();
+    let twice = format!(
+        "{}\n{}\n",
+        text.trim_end(),
+        with_field(&text, "contact_time", "1.25")
+            .lines()
+            .nth(3)
+            .unwrap()
+    );
+    assert!(twice.lines().count() == lines.len() + 1);
+    std::fs::write(dir.join("twice.csv"), &twice).unwrap();
+    let out = cellsweep_in(&dir, &["import", "twice.csv", "--db", "fresh.sqlite"]);
+    let err = refused(&out, "contact_time");
+    assert!(
+        err.contains("replicate 0") && err.contains("(the same job)"),
+        "{err}"
+    );
+    assert!(!dir.join("fresh.sqlite").exists());
+    // A sound export imports whole into a fresh store, and again as already there.
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "e.csv", "--db", "fresh.sqlite"],
+    ));
+    assert!(out.contains("imported 8 results"), "{out}");
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "e.csv", "--db", "fresh.sqlite"],
+    ));
+    assert!(
+        out.contains("imported 0 results") && out.contains("8 already"),
+        "{out}"
+    );
+}
+
+#[test]
+fn an_archived_sweeps_export_imports_into_a_fresh_store() {
+    let dir = workdir("doors", "archived");
+    let text = exported(&dir);
+    // A different sweep under the same name, with --replace: the old one is "door@1".
+    let changed = std::fs::read_to_string(dir.join("door.toml"))
+        .unwrap()
+        .replace("seed = 5", "seed = 6");
+    std::fs::write(dir.join("door.toml"), changed).unwrap();
+    ok(&cellsweep_in(
+        &dir,
+        &["run", "door.toml", "--db", "r.sqlite", "--replace"],
+    ));
+    ok(&cellsweep_in(
+        &dir,
+        &[
+            "export", "--db", "r.sqlite", "--sweep", "door@1", "--out", "old.csv",
+        ],
+    ));
+    let old = std::fs::read_to_string(dir.join("old.csv")).unwrap();
+    assert!(old.lines().nth(3).unwrap().starts_with("door@1,"));
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "old.csv", "--db", "f.sqlite"],
+    ));
+    assert!(out.contains("imported 8 results"), "{out}");
+    // The same rows as the original sweep's export.
+    ok(&cellsweep_in(
+        &dir,
+        &["export", "--db", "f.sqlite", "--out", "back.csv"],
+    ));
+    let body = |t: &str| -> Vec<String> {
+        t.lines()
+            .skip(3)
+            .map(|l| l.split(',').take(18).collect::<Vec<_>>().join(","))
+            .collect()
+    };
+    let back = std::fs::read_to_string(dir.join("back.csv")).unwrap();
+    assert_eq!(body(&back), body(&text));
+}
+
+#[test]
+fn one_writer_per_database_file_whatever_name_reaches_it() {
+    let dir = workdir("doors", "lock");
+    write_sweep(&dir, "lk", 2, "");
+    ok(&cellsweep_in(&dir, &["run", "lk.toml", "--db", "c.sqlite"]));
+    std::os::unix::fs::symlink("c.sqlite", dir.join("l.sqlite")).unwrap();
+    let abs = dir.join("c.sqlite").canonicalize().unwrap();
+    let lock = format!("{}.lock", abs.display());
+    // Hold the writer lock as a running writer would (flock(2), as cellsweep takes it).
+    let mut holder = Command::new("flock")
+        .args([&lock, "sleep", "60"])
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let names = ["c.sqlite", "./c.sqlite", "l.sqlite", abs.to_str().unwrap()];
+    for name in names {
+        let out = cellsweep_in(&dir, &["run", "lk.toml", "--db", name]);
+        refused(&out, "held by another cellsweep writer");
+    }
+    holder.kill().unwrap();
+    let _ = holder.wait();
+    // A hard link: refused for writing (two names, two journals), readable as ever.
+    std::fs::hard_link(dir.join("c.sqlite"), dir.join("h.sqlite")).unwrap();
+    let out = cellsweep_in(&dir, &["run", "lk.toml", "--db", "h.sqlite"]);
+    refused(&out, "hard links");
+    ok(&cellsweep_in(&dir, &["status", "--db", "h.sqlite"]));
+}
+
+#[test]
+fn a_full_disk_puts_the_jobs_in_flight_back_and_names_the_store() {
+    let dir = workdir("doors", "full");
+    // Collisions long enough to be in flight when the disk fills.
+    write_sweep(&dir, "full", 3, "");
+    let text = std::fs::read_to_string(dir.join("full.toml"))
+        .unwrap()
+        .replace("collide_time = 2", "collide_time = 30");
+    std::fs::write(dir.join("full.toml"), text).unwrap();
+    let mnt = dir.join("mnt");
+    std::fs::create_dir_all(&mnt).unwrap();
+    let sh = |cmd: &str| {
+        let out = Command::new("sh").arg("-c").arg(cmd).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{cmd}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    sh(&format!(
+        "mount -t tmpfs -o size=4m tmpfs {}",
+        mnt.display()
+    ));
+    let db = mnt.join("c.sqlite");
+    let child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(&dir)
+        .args([
+            "run",
+            "full.toml",
+            "--db",
+            db.to_str().unwrap(),
+            "--workers",
+            "2",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while common::try_query(&db, "SELECT COUNT(*) FROM preps WHERE state = 'done'") != Some(2) {
+        assert!(t0.elapsed().as_secs() < 120, "the preps did not finish");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    sh(&format!(
+        "dd if=/dev/zero of={}/fill bs=64k 2>/dev/null || true",
+        mnt.display()
+    ));
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    sh(&format!("rm {}/fill", mnt.display()));
+    let running = query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'");
+    let pending = query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'pending'");
+    sh(&format!("umount {}", mnt.display()));
+    assert!(!out.status.success(), "{err}");
+    assert!(err.contains("c.sqlite") && err.contains("full"), "{err}");
+    assert_eq!(running, 0, "{err}");
+    assert!(pending > 0);
+}
+
+#[test]
+fn every_committed_row_passes_the_import_field_checks() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/paper");
+    let mut rows = 0;
+    for f in std::fs::read_dir(&data).unwrap() {
+        let path = f.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut reader = csv::ReaderBuilder::new()
+            .comment(Some(b'#'))
+            .from_reader(text.as_bytes());
+        for (i, r) in reader.deserialize().enumerate() {
+            let r: cellsweep_store::export::ExportRow = r.unwrap();
+            let problems = r.field_problems();
+            assert!(
+                problems.is_empty(),
+                "{}: row {}: {problems:?}",
+                path.display(),
+                i + 1
+            );
+            rows += 1;
+        }
+    }
+    assert!(rows > 10_000, "{rows} rows");
+}

@@ -44,7 +44,7 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
     match &sweep.adaptive {
         Some(a) => println!(
             "  {points} points, {} preps; adaptive: {} replicates per point first, {} more per \
-             round until settled (error {}), at most {}: {first} jobs in the first round, at most \
+             round until settled (error {:?}), at most {}: {first} jobs in the first round, at most \
              {budget}",
             new.preps.len(),
             a.min_replicates,

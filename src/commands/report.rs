@@ -42,9 +42,14 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
     let out = &args.out;
     crate::output::replace_file(out, |w| Ok(std::io::Write::write_all(w, html.as_bytes())?))?;
     println!(
-        "wrote {} ({} sweeps: {})",
+        "wrote {} ({} {}: {})",
         out.display(),
         results.len(),
+        if results.len() == 1 {
+            "sweep"
+        } else {
+            "sweeps"
+        },
         results
             .iter()
             .map(|r| r.name.as_str())

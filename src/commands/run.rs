@@ -73,7 +73,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     if let Some(a) = &sweep.adaptive {
         println!(
             "  adaptive: {} replicates per point first, then {} more per round until the point's \
-             label is settled at error {} (or its sign, away from the crossing), at most {}",
+             label is settled at error {:?} (or its sign, away from the crossing), at most {}",
             a.min_replicates, a.batch, a.error, a.max_replicates
         );
     }

@@ -120,7 +120,9 @@ CREATE INDEX points_by_sweep ON points(sweep_id);
 "#;
 
 /// Version 1 to 2: `results` gains the outcome `breakup` (SQLite cannot change a CHECK in
-/// place, so the table is rebuilt with its rows) and the column `breakup_reason`.
+/// place, so the table is rebuilt with its rows) and the column `breakup_reason`. The table is
+/// written out here, not taken from [`DDL`]: a migration is frozen at the layout of version 2,
+/// while `DDL` moves on with later versions.
 pub const MIGRATE_1_TO_2: &str = r#"
 CREATE TABLE results_v2 (
     job_id          INTEGER PRIMARY KEY REFERENCES jobs(id),

@@ -42,6 +42,10 @@ pub enum Command {
     /// the rows start from, checks every row against the job it claims (seeds, parameters,
     /// prep hash) and commits them all, or none if any is refused. Idempotent.
     Import(ImportArgs),
+    /// Put chosen points of a sweep back to pending, deleting their results, so that the next
+    /// `run` computes them again with the same seeds (after a fix that changes how some of
+    /// their collisions end). One transaction; the rest of the sweep keeps its results.
+    Reset(ResetArgs),
     /// Pictures of every (L, sigma) diagram (SVG and PNG): outcomes with the paper's symbols,
     /// frequency heat maps with the beta_crit lines, and the prep cells' free speed.
     Plot(PlotArgs),
@@ -462,6 +466,26 @@ pub struct ImportArgs {
     pub file: std::path::PathBuf,
     #[command(flatten)]
     pub db: DbArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct ResetArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// The sweep (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// Points to put back, as `alpha=0.1,beta=46` (any of alpha, beta, L, sigma; a key left
+    /// out matches every value): repeat it for several.
+    #[arg(long, value_name = "KEY=VALUE,...")]
+    pub point: Vec<String>,
+    /// A CSV file of points to put back: a header naming any of alpha, beta, L, sigma (other
+    /// columns are ignored), one point per row.
+    #[arg(long, value_name = "FILE.csv")]
+    pub points: Option<std::path::PathBuf>,
+    /// Say what would be put back, changing nothing.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 #[derive(Debug, Args)]

@@ -125,10 +125,14 @@ impl SweepBar {
                     .unwrap_or_else(|| "collisions running, speed after the first".into()),
             );
         }
-        parts.push(format!(
+        let mut ends = format!(
             "train {} walk {} rev {} undet {}",
             o.train, o.walk_past, o.reversal, o.undetermined
-        ));
+        );
+        if o.collision_breakup > 0 {
+            ends += &format!(" broke up {}", o.collision_breakup);
+        }
+        parts.push(ends);
         parts.push(format!("preps {}/{}", p.preps_done, p.preps_total));
         if o.unstable + o.breakup > 0 {
             parts.push(format!("unstable {} breakup {}", o.unstable, o.breakup));

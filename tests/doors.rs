@@ -296,3 +296,78 @@ fn every_committed_row_passes_the_import_field_checks() {
     }
     assert!(rows > 10_000, "{rows} rows");
 }
+
+#[test]
+fn a_reset_point_runs_again_to_the_very_same_rows() {
+    let dir = workdir("doors", "reset");
+    exported(&dir);
+    let db = dir.join("r.sqlite");
+    let before = common::result_rows(&db, "door");
+    let bytes = std::fs::read(&db).unwrap();
+    for (args, needle) in [
+        (
+            vec!["--point", "alpha=0.3"],
+            "no point of sweep \"door\" matches",
+        ),
+        (
+            vec!["--point", "alpha=$(touch x)"],
+            "is not a finite number",
+        ),
+        (
+            vec!["--point", "gamma=1"],
+            "\"gamma\" is not a swept parameter",
+        ),
+        (vec!["--point", "alpha=NaN"], "is not a finite number"),
+        (
+            vec!["--point", "alpha=0.1,alpha=0.12"],
+            "alpha is given twice",
+        ),
+        (vec![], "say which points to put back"),
+    ] {
+        let mut a = vec!["reset", "--db", "r.sqlite"];
+        a.extend(args);
+        refused(&cellsweep_in(&dir, &a), needle);
+    }
+    std::fs::write(dir.join("pts.csv"), "beta,alpha,note\n10,0.1,x\n").unwrap();
+    let dry = ok(&cellsweep_in(
+        &dir,
+        &[
+            "reset",
+            "--db",
+            "r.sqlite",
+            "--points",
+            "pts.csv",
+            "--dry-run",
+        ],
+    ));
+    assert!(dry.contains("would put back 4 jobs at 2 points"), "{dry}");
+    assert_eq!(
+        std::fs::read(&db).unwrap(),
+        bytes,
+        "a refused or dry reset wrote"
+    );
+
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["reset", "--db", "r.sqlite", "--point", "alpha=0.1,sigma=5"],
+    ));
+    assert!(out.contains("put back 2 jobs at 1 points"), "{out}");
+    let left = "SELECT COUNT(*) FROM results r JOIN jobs j ON j.id = r.job_id \
+                JOIN points p ON p.id = j.point_id";
+    assert_eq!(query(&db, left), 6);
+    assert_eq!(
+        query(
+            &db,
+            "SELECT COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id \
+             WHERE p.alpha = 0.1 AND p.sigma = 5 AND j.state = 'pending' AND j.attempts = 0"
+        ),
+        2
+    );
+    let status = ok(&cellsweep_in(&dir, &["status", "--db", "r.sqlite"]));
+    assert!(status.contains("6 done / 8 total"), "{status}");
+    ok(&cellsweep_in(
+        &dir,
+        &["run", "door.toml", "--db", "r.sqlite"],
+    ));
+    assert_eq!(common::result_rows(&db, "door"), before);
+}

@@ -542,6 +542,15 @@ fn a_prep_that_blows_up_on_slurm_is_collected_as_breakup_and_not_resent() {
         ),
         2
     );
+    // The collide tasks' records of those jobs agree with the prep: collecting them again is
+    // quiet, not a refusal on every call.
+    let c = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    let err = String::from_utf8_lossy(&c.stderr);
+    assert!(c.status.success(), "{err}");
+    assert!(
+        !err.contains("refused") && !err.contains("prep is"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::bail;
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{compare, Comparison, EndCounts, Label, PointComparison, Store, Test};
+use cellsweep_store::{compare, Comparison, End, EndCounts, Label, PointComparison, Store, Test};
 use serde_json::json;
 
 use crate::cli::{CompareArgs, Format};
@@ -47,9 +47,18 @@ fn load(db: &Path, name: &str, version: Option<&str>) -> anyhow::Result<Side> {
     })
 }
 
-/// train / walk-past / reversal / undetermined / prep verdict (unstable or breakup).
+/// train / walk-past / reversal / undetermined / collision breakup / prep verdict (unstable or
+/// breakup).
 fn counts_text(c: &EndCounts) -> String {
-    format!("{}/{}/{}/{}/{}", c[0], c[1], c[2], c[3], c[4] + c[5])
+    format!(
+        "{}/{}/{}/{}/{}/{}",
+        c[0],
+        c[1],
+        c[2],
+        c[3],
+        c[6],
+        c[4] + c[5]
+    )
 }
 
 fn label_text(l: Option<Label>) -> &'static str {
@@ -80,13 +89,13 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
     }
     println!();
     println!(
-        "{:>6} {:>6} {:>4} {:>5}  {:>15} {:>15}  {:>9}  {:>13}  {:>7}  labels",
+        "{:>6} {:>6} {:>4} {:>5}  {:>18} {:>18}  {:>9}  {:>13}  {:>7}  labels",
         "alpha",
         "beta",
         "L",
         "sigma",
-        "A tr/wp/rv/un/v",
-        "B tr/wp/rv/un/v",
+        "A tr/wp/rv/un/bu/v",
+        "B tr/wp/rv/un/bu/v",
         "alike",
         "|dt| mean/max",
         "p"
@@ -103,7 +112,7 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
             ""
         };
         println!(
-            "{:>6} {:>6} {:>4} {:>5}  {:>15} {:>15}  {:>9}  {:>13}  {:>7}  {:>2} {:>2}{differ}",
+            "{:>6} {:>6} {:>4} {:>5}  {:>18} {:>18}  {:>9}  {:>13}  {:>7}  {:>2} {:>2}{differ}",
             p.alpha,
             p.beta,
             p.L,
@@ -118,7 +127,7 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
         );
     }
     println!(
-        "\ntr train, wp walk-past, rv reversal, un undetermined, v decided by the prep's verdict \
+        "\ntr train, wp walk-past, rv reversal, un undetermined, bu a cell broke up in the collision, v decided by the prep's verdict \
          (unstable or breakup);\n|dt|: difference in decision time of the pairs that end alike \
          (tau0); labels as in `cellsweep table`;\np: exact symmetry test of the discordant \
          pairs (McNemar's for two outcomes), or, marked *, a permutation\ntest of the counts \
@@ -151,13 +160,14 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
 }
 
 fn print_csv(c: &Comparison) {
-    let ends = [
+    let ends: [&str; End::ALL.len()] = [
         "train",
         "walk",
         "reversal",
         "undetermined",
         "unstable",
         "breakup",
+        "collision_breakup",
     ];
     let mut header = "alpha,beta,L,sigma".to_string();
     for side in ["a", "b"] {

@@ -34,19 +34,7 @@ pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
 
 pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
     let store = Store::open_read(db)?;
-    let names = store.sweep_names()?;
-    let name = match sweep {
-        Some(n) => n.to_string(),
-        None => match names.as_slice() {
-            [one] => one.clone(),
-            [] => bail!("no sweeps in {}", db.display()),
-            many => bail!(
-                "{} holds several sweeps ({}); pass --sweep NAME",
-                db.display(),
-                many.join(", ")
-            ),
-        },
-    };
+    let name = store.choose_sweep(sweep)?;
     let id = store.sweep_id(&name)?;
     let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?)
         .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;

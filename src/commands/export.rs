@@ -15,18 +15,7 @@ use crate::cli::{ExportArgs, ImportArgs};
 
 pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     let store = Store::open_read(&args.db.db)?;
-    let name = match &args.sweep {
-        Some(n) => n.clone(),
-        None => match store.sweep_names()?.as_slice() {
-            [one] => one.clone(),
-            [] => bail!("no sweeps in {}", args.db.db.display()),
-            many => bail!(
-                "{} holds several sweeps ({}); pass --sweep NAME",
-                args.db.db.display(),
-                many.join(", ")
-            ),
-        },
-    };
+    let name = store.choose_sweep(args.sweep.as_deref())?;
     let id = store.sweep_id(&name)?;
     let defaults = serde_json::to_value(Params::default())?;
     let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;

@@ -10,6 +10,7 @@ mod model;
 mod plot;
 mod relax;
 mod report;
+mod reset;
 mod run;
 mod simulate;
 mod slurm;
@@ -29,6 +30,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Compare(args) => compare::run(args).map(|_| 0),
         Command::Export(args) => export::run(args).map(|_| 0),
         Command::Import(args) => export::import(args).map(|_| 0),
+        Command::Reset(args) => reset::run(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Report(args) => report::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),

@@ -11,6 +11,9 @@ pub fn outcome_line(o: &OutcomeCounts) -> String {
         "train {} · walk_past {} · reversal {} · undetermined {}",
         o.train, o.walk_past, o.reversal, o.undetermined
     );
+    if o.collision_breakup > 0 {
+        s += &format!(" · broke up {}", o.collision_breakup);
+    }
     if o.unstable + o.breakup > 0 {
         s += &format!(" · unstable {} · breakup {}", o.unstable, o.breakup);
     }
@@ -147,7 +150,7 @@ pub fn print_point_counts(store: &Store, sweep_id: i64, name: &str) -> anyhow::R
     let points = store.point_counts(sweep_id, SOLVER_VERSION)?;
     println!("outcome counts of {name:?} ({SOLVER_VERSION}):");
     println!(
-        "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5}  {:>8} {:>7} {:>6}  {:>10}",
+        "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}",
         "alpha",
         "beta",
         "L",
@@ -156,6 +159,7 @@ pub fn print_point_counts(store: &Store, sweep_id: i64, name: &str) -> anyhow::R
         "walk",
         "rev",
         "undet",
+        "broke up",
         "unstable",
         "breakup",
         "failed",
@@ -165,7 +169,7 @@ pub fn print_point_counts(store: &Store, sweep_id: i64, name: &str) -> anyhow::R
         let o = &p.outcomes;
         let pending = p.jobs.pending + p.jobs.running;
         println!(
-            "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5}  {:>8} {:>7} {:>6}  {:>10}{}",
+            "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}{}",
             p.alpha,
             p.beta,
             p.L,
@@ -174,6 +178,7 @@ pub fn print_point_counts(store: &Store, sweep_id: i64, name: &str) -> anyhow::R
             o.walk_past,
             o.reversal,
             o.undetermined,
+            o.collision_breakup,
             o.unstable,
             o.breakup,
             p.jobs.failed,

@@ -166,9 +166,24 @@ impl Ledger {
                 result.seeds.prep, job.prep_id
             ));
         }
-        if job.prep_verdict.as_deref() != Some("ok")
-            || result.verdict != Verdict::Ok
-            || result.outcome.is_none()
+        // A Slurm collide task whose prep turned out unstable or broke up reports the prep's
+        // verdict without a collision: the job is decided by its prep, which the ledger has
+        // settled (or will) from the prep itself, so such a record agrees and adds nothing.
+        let decided_by_prep = result.verdict != Verdict::Ok
+            && result.outcome.is_none()
+            && job.prep_verdict.as_deref() == Some(result.verdict.as_str());
+        if decided_by_prep {
+            if job.state == JobState::Done {
+                return Ok(Settlement::Already);
+            }
+            // Settled as every job of that prep is, from the stored prep (one write path).
+            self.settle_by_stored_prep(store, job.prep_id)?;
+            return Ok(Settlement::New);
+        }
+        if !decided_by_prep
+            && (job.prep_verdict.as_deref() != Some("ok")
+                || result.verdict != Verdict::Ok
+                || result.outcome.is_none())
         {
             return refuse(format!(
                 "a collision with verdict {:?}, but the job's prep is {}",
@@ -263,18 +278,31 @@ impl Ledger {
     pub fn settle_decided(&self, store: &mut Store) -> Result<usize, RunError> {
         let mut n = 0;
         for p in store.preps_of(self.sweep_id, &self.version)? {
-            let verdict = match (p.state, p.verdict.as_deref()) {
-                (JobState::Done, Some("unstable")) => Verdict::Unstable,
-                (JobState::Done, Some("breakup")) => Verdict::Breakup,
-                _ => continue,
-            };
-            let stored = store.load_prep(p.id)?;
-            let reason = serde_json::from_str::<serde_json::Value>(&stored.summary)
-                .ok()
-                .and_then(|v| v["verdict_reason"].as_str().map(String::from));
-            n += self.settle_verdict(store, p.id, verdict, reason.as_deref(), stored.free_speed)?;
+            if p.state == JobState::Done {
+                n += self.settle_by_stored_prep(store, p.id)?;
+            }
         }
         Ok(n)
+    }
+
+    /// Settle the pending jobs of one done prep from its stored verdict, if that is not `ok`.
+    fn settle_by_stored_prep(&self, store: &mut Store, prep_id: i64) -> Result<usize, RunError> {
+        let stored = store.load_prep(prep_id)?;
+        let verdict = match stored.verdict.as_str() {
+            "unstable" => Verdict::Unstable,
+            "breakup" => Verdict::Breakup,
+            _ => return Ok(0),
+        };
+        let reason = serde_json::from_str::<serde_json::Value>(&stored.summary)
+            .ok()
+            .and_then(|v| v["verdict_reason"].as_str().map(String::from));
+        self.settle_verdict(
+            store,
+            prep_id,
+            verdict,
+            reason.as_deref(),
+            stored.free_speed,
+        )
     }
 
     /// A failed attempt of a job: pending again, or failed for good after `max_attempts`.

@@ -103,7 +103,8 @@ impl SubmitOptions {
             }
         }
         use crate::slurm_syntax::{account, partition, sbatch_arg, time_limit};
-        let checks: [(&str, Option<&String>, fn(&str) -> Result<(), String>); 3] = [
+        type Check = fn(&str) -> Result<(), String>;
+        let checks: [(&str, Option<&String>, Check); 3] = [
             ("--partition", self.partition.as_ref(), partition),
             ("--account", self.account.as_ref(), account),
             ("--time", self.time.as_ref(), time_limit),

@@ -266,7 +266,13 @@ impl Sweep {
             if l > MAX_SITES as f64 {
                 return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
             }
-            if l.fract() != 0.0 || l < 0.0 {
+            if l < 0.0 {
+                return Err(cx.err(
+                    "grid.L",
+                    format!("{l} is negative: a fiber spacing is a distance, in lattice sites"),
+                ));
+            }
+            if l.fract() != 0.0 {
                 return Err(cx.err(
                     "grid.L",
                     format!("{l} is not a whole number of lattice sites"),
@@ -315,6 +321,16 @@ impl Sweep {
                     max_replicates: max,
                     error: a.error.map_or(0.05, |e| e.0),
                 };
+                if a.max_replicates.is_none() && rule.min_replicates > max {
+                    // The budget came from `replicates`: blame the key the file did set.
+                    return Err(cx.err(
+                        "adaptive.min_replicates",
+                        format!(
+                            "{} is above the budget of replicates = {max}",
+                            rule.min_replicates
+                        ),
+                    ));
+                }
                 rule.validate()
                     .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
                 Some(rule)

@@ -198,7 +198,7 @@ pub fn read(text: &str, file: &str) -> Result<SweepFile, SweepError> {
             .span()
             .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
             .map_or("syntax".to_string(), |l| format!("line {l}"));
-        SweepError::new(file, line, first_line(e.message()))
+        SweepError::new(file, line, toml_problem(e.message()))
     })?;
     finite(&Value::Table(top.clone()), "")
         .map_err(|(key, x)| SweepError::new(file, key, format!("{x} is not a finite number")))?;
@@ -252,6 +252,23 @@ fn join(path: &str, key: &str) -> String {
     } else {
         format!("{path}.{key}")
     }
+}
+
+/// The TOML parser's message in a user's words: an integer beyond 64 bits is reported by the
+/// parser as a type error "integer `N` as i128", which says nothing to someone writing a seed.
+fn toml_problem(message: &str) -> String {
+    let line = first_line(message);
+    if let Some(rest) = line.strip_prefix("invalid type: integer `") {
+        if let Some((n, tail)) = rest.split_once('`') {
+            if tail.starts_with(" as i128") {
+                return format!(
+                    "the integer {n} is too large (TOML integers are 64-bit, at most {})",
+                    i64::MAX
+                );
+            }
+        }
+    }
+    line
 }
 
 fn first_line(s: &str) -> String {

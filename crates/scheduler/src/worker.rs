@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use std::io::{BufRead, Write};
 use std::time::Instant;
 
-use cellsweep_solver::{collide, prepare, Prep, Silent, TrajectoryResult};
+use cellsweep_solver::{collide, prepare, Prep, Silent, TrajectoryResult, Verdict};
 
 use crate::wire::{PrepPayload, Request, Response};
 
@@ -137,6 +137,16 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
                     error: format!("prep {prep_id} was not sent to this worker"),
                 };
             };
+            if prep.verdict != Verdict::Ok {
+                // No collision starts from a cell that is not `ok` (SPEC section 4): a Slurm
+                // collide task can meet one, since its array is submitted before the preps'
+                // verdicts are known. The record says the prep decided the job.
+                return Response::Collide {
+                    task,
+                    result: Box::new(TrajectoryResult::new(&config, prep, seed, None)),
+                    wall_s: started.elapsed().as_secs_f64(),
+                };
+            }
             match collide(
                 &config.params,
                 &config.protocol,

@@ -22,10 +22,15 @@ pub enum StoreError {
         expected: u32,
     },
     #[error(
-        "a different sweep named {name:?} is already registered; rename the new one, or pass \
-         --replace to keep the old one's results under {archived:?} and register this one"
+        "a different sweep named {name:?} is already registered ({differs}); rename the new \
+         one, or pass --replace to keep the old one's results under {archived:?} and register \
+         this one"
     )]
-    SweepConflict { name: String, archived: String },
+    SweepConflict {
+        name: String,
+        archived: String,
+        differs: String,
+    },
     #[error(
         "sweep {name:?} is registered with {stored} replicates per point and the file asks for \
          {asked}: a sweep can grow but not shrink (its results stay); ask for {stored} or more, \
@@ -36,6 +41,10 @@ pub enum StoreError {
         stored: u32,
         asked: u32,
     },
+    #[error("no sweeps in {0}")]
+    NoSweeps(PathBuf),
+    #[error("{path} holds several sweeps ({names}); pass --sweep NAME")]
+    SeveralSweeps { path: PathBuf, names: String },
     #[error("no sweep named {0:?} in the store")]
     UnknownSweep(String),
     #[error("{what} {id} is {found}, not {expected} (the store refuses the transition)")]

@@ -54,6 +54,7 @@ impl Store {
                         },
                         _ => StoreError::SweepConflict {
                             archived: format!("{name}@{id}"),
+                            differs: spec_differences(&spec, &sweep.spec),
                             name,
                         },
                     });
@@ -190,4 +191,64 @@ fn insert_sweep(tx: &rusqlite::Connection, sweep: &NewSweep) -> Result<i64> {
         params![sweep.name, sweep.spec, sweep.source, now()],
     )?;
     Ok(tx.last_insert_rowid())
+}
+
+/// What differs between two canonical sweep definitions, for the refusal of a different sweep
+/// under a registered name: the first few dotted keys with the stored and the new value
+/// (`grid.alpha is [0.1,0.12] in the store and [0.12,0.1] in this file`).
+fn spec_differences(stored: &str, new: &str) -> String {
+    fn walk(path: &str, a: &serde_json::Value, b: &serde_json::Value, out: &mut Vec<String>) {
+        use serde_json::Value::Object;
+        if a == b {
+            return;
+        }
+        if let (Object(x), Object(y)) = (a, b) {
+            let mut keys: Vec<&String> = x.keys().chain(y.keys()).collect();
+            keys.sort();
+            keys.dedup();
+            for k in keys {
+                let null = serde_json::Value::Null;
+                let key = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                walk(
+                    &key,
+                    x.get(k).unwrap_or(&null),
+                    y.get(k).unwrap_or(&null),
+                    out,
+                );
+            }
+            return;
+        }
+        let show = |v: &serde_json::Value| {
+            let t = if v.is_null() {
+                "absent".to_string()
+            } else {
+                v.to_string()
+            };
+            if t.chars().count() > 60 {
+                format!("{}...", t.chars().take(57).collect::<String>())
+            } else {
+                t
+            }
+        };
+        out.push(format!(
+            "{path} is {} in the store and {} in this file",
+            show(a),
+            show(b)
+        ));
+    }
+    let parse = |t: &str| serde_json::from_str::<serde_json::Value>(t).ok();
+    let (Some(a), Some(b)) = (parse(stored), parse(new)) else {
+        return "its stored definition is unreadable".to_string();
+    };
+    let mut out = Vec::new();
+    walk("", &a, &b, &mut out);
+    match out.len() {
+        0 => "the definitions differ only in form".to_string(),
+        1..=3 => out.join("; "),
+        n => format!("{} (and {} more)", out[..3].join("; "), n - 3),
+    }
 }

@@ -356,6 +356,22 @@ impl Store {
     }
 
     /// Id of the sweep called `name`.
+    /// The sweep a command reads: the one named, else the store's only one.
+    pub fn choose_sweep(&self, name: Option<&str>) -> Result<String> {
+        if let Some(n) = name {
+            return Ok(n.to_string());
+        }
+        let names = self.sweep_names()?;
+        match names.as_slice() {
+            [one] => Ok(one.clone()),
+            [] => Err(StoreError::NoSweeps(self.path().to_path_buf())),
+            many => Err(StoreError::SeveralSweeps {
+                path: self.path().to_path_buf(),
+                names: many.join(", "),
+            }),
+        }
+    }
+
     pub fn sweep_id(&self, name: &str) -> Result<i64> {
         self.conn
             .query_row("SELECT id FROM sweeps WHERE name = ?1", [name], |r| {

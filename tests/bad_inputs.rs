@@ -245,6 +245,18 @@ const SWEEPS: &[(&str, &str, &str)] = &[
         "job_timeout = 3600\nretries = 2",
         "run.retries",
     ),
+    // Messages that named the wrong thing (issue 26).
+    ("L = [48]", "L = [-44]", "grid.L: -44 is negative"),
+    (
+        "seed = 1",
+        "seed = 99999999999999999999",
+        "line 2: the integer 99999999999999999999 is too large",
+    ),
+    (
+        "[run]",
+        "[adaptive]\nmin_replicates = 16\n[run]",
+        "adaptive.min_replicates: 16 is above the budget of replicates = 2",
+    ),
     // Adaptive.
     ("[run]", "[adaptive]\nbatch = 0\n[run]", "adaptive.batch"),
     (

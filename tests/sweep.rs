@@ -158,7 +158,8 @@ fn a_small_sweep_runs_end_to_end_through_worker_processes() {
         &sweep,
         std::fs::read_to_string(&sweep)
             .unwrap()
-            .replace("seed = 5", "seed = 6"),
+            .replace("seed = 5", "seed = 6")
+            .replace("alpha = [0.1, 0.12]", "alpha = [0.12, 0.1]"),
     )
     .unwrap();
     let clash = cellsweep(
@@ -169,6 +170,12 @@ fn a_small_sweep_runs_end_to_end_through_worker_processes() {
     let err = String::from_utf8_lossy(&clash.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.contains("--replace"), "{err}");
+    // It says what differs: the grid's order and the seed, each with both values.
+    assert!(
+        err.contains("grid.alpha is [0.1,0.12] in the store and [0.12,0.1] in this file"),
+        "{err}"
+    );
+    assert!(err.contains("seed is 5 in the store and 6 in this file"), "{err}");
     assert_eq!(db_query(&db, "SELECT COUNT(*) FROM sweeps"), 1);
 }
 

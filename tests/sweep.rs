@@ -175,7 +175,10 @@ fn a_small_sweep_runs_end_to_end_through_worker_processes() {
         err.contains("grid.alpha is [0.1,0.12] in the store and [0.12,0.1] in this file"),
         "{err}"
     );
-    assert!(err.contains("seed is 5 in the store and 6 in this file"), "{err}");
+    assert!(
+        err.contains("seed is 5 in the store and 6 in this file"),
+        "{err}"
+    );
     assert_eq!(db_query(&db, "SELECT COUNT(*) FROM sweeps"), 1);
 }
 

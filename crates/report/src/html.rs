@@ -346,6 +346,28 @@ fn diagram_summary(s: &Shown<'_>) -> String {
             count(Standing::Open)
         );
     }
+    // SPEC section 5: collisions in which a cell broke up are artefacts of the lattice, counted
+    // and named where they are.
+    let broke: Vec<String> = s
+        .counts()
+        .filter(|c| c.n_collision_breakup > 0)
+        .map(|c| {
+            format!(
+                "{}/{} at (α {}, β {})",
+                c.n_collision_breakup,
+                c.total(),
+                c.alpha,
+                c.beta
+            )
+        })
+        .collect();
+    if !broke.is_empty() {
+        let n: u64 = s.counts().map(|c| c.n_collision_breakup).sum();
+        out += &format!(
+            "; {n} collisions broke up (a cell split during the collision, SPEC section 5): {}",
+            broke.join(", ")
+        );
+    }
     out
 }
 

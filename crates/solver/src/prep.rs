@@ -150,12 +150,20 @@ pub fn breakup_reason<T: Real>(lat: &Lattice, params: &Params, cell: &Cell<T>) -
             cell.sums.area
         ))
     } else {
-        let pieces = components(lat, &cell.phi)
-            .iter()
-            .filter(|&&n| n >= 10)
-            .count();
-        (pieces > 1)
-            .then(|| format!("the region phi > 0.5 is in {pieces} pieces of 10 or more sites"))
+        let mut pieces: Vec<usize> = components(lat, &cell.phi)
+            .into_iter()
+            .filter(|&n| n >= 10)
+            .collect();
+        pieces.sort_unstable_by(|a, b| b.cmp(a));
+        (pieces.len() > 1).then(|| {
+            // The sizes tell a cell cut in two from a small drop pinched off its tail.
+            let sizes: Vec<String> = pieces.iter().map(usize::to_string).collect();
+            format!(
+                "the region phi > 0.5 is in {} pieces of 10 or more sites ({} sites)",
+                pieces.len(),
+                sizes.join(", ")
+            )
+        })
     }
 }
 

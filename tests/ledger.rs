@@ -293,13 +293,6 @@ fn hung_run(dir: &std::path::Path, grace: &str) -> std::process::Child {
     child
 }
 
-fn signal(child: &std::process::Child, sig: &str) {
-    assert!(Command::new("kill")
-        .args([sig, &child.id().to_string()])
-        .status()
-        .unwrap()
-        .success());
-}
 
 #[test]
 fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
@@ -307,7 +300,7 @@ fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
     let mut child = hung_run(&dir, "2");
     let db = dir.join("r.sqlite");
     let asked = Instant::now();
-    signal(&child, "-INT");
+    common::send_signal(&child, libc::SIGINT);
     let code = child.wait().unwrap();
     let took = asked.elapsed();
     assert_eq!(code.code(), Some(130));
@@ -334,9 +327,9 @@ fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
     let dir = workdir("ledger", "twice");
     let mut child = hung_run(&dir, "600");
     let asked = Instant::now();
-    signal(&child, "-INT");
+    common::send_signal(&child, libc::SIGINT);
     std::thread::sleep(Duration::from_millis(300));
-    signal(&child, "-TERM");
+    common::send_signal(&child, libc::SIGTERM);
     assert_eq!(child.wait().unwrap().code(), Some(130));
     assert!(
         asked.elapsed() < Duration::from_secs(10),

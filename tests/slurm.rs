@@ -459,10 +459,7 @@ fn array_tasks_respect_max_array_size_stop_cleanly_on_usr1_and_resume() {
             break;
         }
     }
-    Command::new("kill")
-        .args(["-USR1", &child.id().to_string()])
-        .status()
-        .unwrap();
+    common::send_signal(&child, libc::SIGUSR1);
     let mut rest = String::new();
     std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
     assert!(child.wait().unwrap().success());

@@ -1,6 +1,8 @@
 //! Sweeps through real worker processes: end to end, killed and resumed, crashed and hung
 //! workers, interrupted runs, and bad databases.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -262,11 +264,7 @@ fn an_interrupted_run_leaves_a_consistent_store_and_resumes() {
         1,
         Duration::from_secs(120),
     );
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
+    common::send_signal(&child, libc::SIGINT);
     let code = child.wait().unwrap();
     assert_eq!(code.code(), Some(130), "interrupted runs exit with 130");
     assert_eq!(

@@ -88,3 +88,12 @@ pub fn try_query(db: &Path, sql: &str) -> Option<i64> {
 pub const NAN_SWEEP: &str = "name = \"{name}\"\nseed = 1\nreplicates = 2\n[grid]\nalpha = [0.18]\nbeta = [10]\nL = [40]\nsigma = [5]\n\
      [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
      [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n";
+
+/// Send `sig` (libc::SIGINT, ...) to a child process: no `kill` binary needed (a minimal system
+/// has none: procps is not essential).
+pub fn send_signal(child: &std::process::Child, sig: i32) {
+    let pid = i32::try_from(child.id()).expect("pid fits");
+    // SAFETY: kill(2) with a live child's pid and a valid signal number.
+    let rc = unsafe { libc::kill(pid, sig) };
+    assert_eq!(rc, 0, "kill({pid}, {sig}) failed");
+}

@@ -34,7 +34,7 @@ configure() {
   cat > "$CONF" <<CONF
 # Written by cellsweep's scripts/slurm-local.sh: a one-node test cluster.
 ClusterName=cellsweep-local
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
@@ -61,7 +61,7 @@ InactiveLimit=0
 KillWait=5
 MinJobAge=300
 MaxArraySize=1001
-NodeName=$host CPUs=$cpus State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
   if [ ! -s /etc/munge/munge.key ]; then

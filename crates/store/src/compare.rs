@@ -382,7 +382,7 @@ fn chi_square(a: &EndCounts, b: &EndCounts) -> f64 {
     let (na, nb) = (a.iter().sum::<u64>() as f64, b.iter().sum::<u64>() as f64);
     let n = na + nb;
     let mut x2 = 0.0;
-    for c in 0..6 {
+    for c in 0..End::ALL.len() {
         let col = (a[c] + b[c]) as f64;
         if col == 0.0 {
             continue;
@@ -405,7 +405,7 @@ pub fn permutation_test(a: &EndCounts, b: &EndCounts) -> f64 {
         return 1.0;
     }
     let mut pool: Vec<usize> = Vec::new();
-    for c in 0..6 {
+    for c in 0..End::ALL.len() {
         pool.extend(std::iter::repeat_n(c, (a[c] + b[c]) as usize));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(0);
@@ -449,6 +449,21 @@ mod tests {
             end,
             decision_time: t,
         }
+    }
+
+    #[test]
+    fn the_permutation_test_counts_every_end_collision_breakups_included() {
+        // Side a all broke up in the collision, side b all trained: the two differ as much as
+        // two samples can (it panicked when the pool left out the seventh kind of end).
+        let mut a = [0u64; End::ALL.len()];
+        let mut b = [0u64; End::ALL.len()];
+        a[End::CollisionBreakup.index()] = 16;
+        b[End::Train.index()] = 16;
+        let p = permutation_test(&a, &b);
+        assert!(p < 0.001, "{p}");
+        assert!(chi_square(&a, &b) > 30.0);
+        // Two samples of the same mix are alike.
+        assert_eq!(permutation_test(&a, &a), 1.0);
     }
 
     #[test]

@@ -293,7 +293,6 @@ fn hung_run(dir: &std::path::Path, grace: &str) -> std::process::Child {
     child
 }
 
-
 #[test]
 fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
     let dir = workdir("ledger", "grace");

@@ -328,6 +328,15 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
         a.extend(args);
         refused(&cellsweep_in(&dir, &a), needle);
     }
+    // A store that is not there is named, and nothing is made beside it.
+    refused(
+        &cellsweep_in(
+            &dir,
+            &["reset", "--db", "none.sqlite", "--point", "alpha=0.1"],
+        ),
+        "no database at none.sqlite",
+    );
+    assert!(!dir.join("none.sqlite").exists() && !dir.join("none.sqlite.lock").exists());
     std::fs::write(dir.join("pts.csv"), "beta,alpha,note\n10,0.1,x\n").unwrap();
     let dry = ok(&cellsweep_in(
         &dir,

@@ -110,6 +110,8 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
         bail!("say which points to put back: --point alpha=0.1,beta=46 or --points FILE.csv");
     }
     let db = &args.db.db;
+    // A store that is not there (or not ours) is named before any lock file is made beside it.
+    drop(Store::open_read(db)?);
     // No run may be live while its jobs are put back (a dry run only reads).
     let _lock = if args.dry_run {
         None

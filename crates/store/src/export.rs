@@ -178,79 +178,26 @@ impl ExportRow {
         out
     }
 
-    /// The result fields of two rows of one job that differ, each as (field, this, other);
-    /// wall times (where the rows were made) are not results.
-    pub fn result_differences(&self, other: &ExportRow) -> Vec<(&'static str, String, String)> {
-        let mut out = Vec::new();
-        let mut cmp = |field: &'static str, a: String, b: String| {
-            if a != b {
-                out.push((field, a, b));
-            }
+    /// The fields of two rows of one job that differ, each as (field, this, other): every
+    /// column but the sweep's name (an archived `NAME@ID` is the same sweep) and the wall times
+    /// (where the rows were made), so that a column added to the format is compared too.
+    pub fn result_differences(&self, other: &ExportRow) -> Vec<(String, String, String)> {
+        const NOT_RESULTS: [&str; 3] = ["sweep", "wall_s", "prep_wall_s"];
+        let fields = |r: &ExportRow| match serde_json::to_value(r) {
+            Ok(serde_json::Value::Object(map)) => map,
+            _ => serde_json::Map::new(),
         };
-        let opt = |v: &Option<String>| v.clone().unwrap_or_default();
-        let num = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:?}"));
-        cmp("verdict", self.verdict.clone(), other.verdict.clone());
-        cmp("outcome", opt(&self.outcome), opt(&other.outcome));
-        cmp(
-            "contact_time",
-            num(self.contact_time),
-            num(other.contact_time),
-        );
-        cmp(
-            "decision_time",
-            num(self.decision_time),
-            num(other.decision_time),
-        );
-        cmp(
-            "attachment_1",
-            opt(&self.attachment_1),
-            opt(&other.attachment_1),
-        );
-        cmp(
-            "attachment_2",
-            opt(&self.attachment_2),
-            opt(&other.attachment_2),
-        );
-        cmp("free_speed", num(self.free_speed), num(other.free_speed));
-        cmp(
-            "threshold_speed",
-            num(self.threshold_speed),
-            num(other.threshold_speed),
-        );
-        cmp(
-            "collision_steps",
-            self.collision_steps.to_string(),
-            other.collision_steps.to_string(),
-        );
-        cmp(
-            "breakup_reason",
-            opt(&self.breakup_reason),
-            opt(&other.breakup_reason),
-        );
-        cmp(
-            "prep_seed",
-            self.prep_seed.to_string(),
-            other.prep_seed.to_string(),
-        );
-        cmp(
-            "collision_seed",
-            self.collision_seed.to_string(),
-            other.collision_seed.to_string(),
-        );
-        cmp("prep_hash", self.prep_hash.clone(), other.prep_hash.clone());
-        cmp(
-            "classifier",
-            self.classifier.clone(),
-            other.classifier.clone(),
-        );
-        cmp(
-            "solver_version",
-            self.solver_version.clone(),
-            other.solver_version.clone(),
-        );
-        cmp("params", self.params.clone(), other.params.clone());
-        cmp("precision", self.precision.clone(), other.precision.clone());
-        out
+        let text = |v: Option<&serde_json::Value>| match v {
+            None | Some(serde_json::Value::Null) => String::new(),
+            Some(serde_json::Value::String(s)) => s.clone(),
+            Some(v) => v.to_string(),
+        };
+        let (a, b) = (fields(self), fields(other));
+        a.keys()
+            .filter(|k| !NOT_RESULTS.contains(&k.as_str()))
+            .filter(|k| a.get(*k) != b.get(*k))
+            .map(|k| (k.clone(), text(a.get(k)), text(b.get(k))))
+            .collect()
     }
 }
 
@@ -378,5 +325,62 @@ impl Store {
                 |r| r.get(0),
             )
             .optional()?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A row as a collision of the paper's sweep gives it.
+    fn a_row() -> ExportRow {
+        ExportRow {
+            sweep: "adaptive-L70-sigma5".into(),
+            alpha: 0.1,
+            beta: 10.0,
+            L: 70,
+            sigma: 5.0,
+            params: "{}".into(),
+            replicate: 0,
+            prep_seed: 8508916949338792062,
+            collision_seed: 3765284608252713618,
+            verdict: "ok".into(),
+            outcome: Some("train".into()),
+            contact_time: Some(71.5),
+            decision_time: Some(249.5),
+            attachment_1: Some("both".into()),
+            attachment_2: Some("both".into()),
+            free_speed: Some(0.5592358745309631),
+            threshold_speed: Some(0.13980896863274078),
+            collision_steps: 124750,
+            precision: "f32".into(),
+            solver_version: "cellsweep-solver 0.4.1".into(),
+            prep_hash: "0ff701a5851746ba".into(),
+            classifier: "{}".into(),
+            wall_s: Some(11.0),
+            prep_wall_s: Some(6.5),
+            breakup_reason: None,
+        }
+    }
+
+    #[test]
+    fn every_result_column_is_compared_and_wall_times_and_the_archived_name_are_not() {
+        let row = a_row();
+        assert!(row.result_differences(&row).is_empty());
+        let mut other = row.clone();
+        other.free_speed = other.free_speed.map(|v| v + 1.0);
+        other.breakup_reason = Some("cell 1: torn".into());
+        other.collision_seed ^= 1;
+        let named: Vec<String> = row
+            .result_differences(&other)
+            .into_iter()
+            .map(|(f, _, _)| f)
+            .collect();
+        assert_eq!(named, ["breakup_reason", "collision_seed", "free_speed"]);
+        let mut same = row.clone();
+        same.wall_s = Some(1e9);
+        same.prep_wall_s = None;
+        same.sweep = format!("{}@7", row.sweep);
+        assert!(row.result_differences(&same).is_empty());
     }
 }

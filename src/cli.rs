@@ -108,7 +108,8 @@ pub struct RunArgs {
     /// are kept); a second signal stops at once.
     #[arg(long, default_value_t = 10.0, value_name = "SECONDS", value_parser = grace_seconds)]
     pub grace: f64,
-    /// Put the sweep's failed jobs and preps back to pending (attempts reset) and run them.
+    /// Put the sweep's failed jobs and preps back to pending, each with its attempts anew, and
+    /// run them.
     #[arg(long)]
     pub retry_failed: bool,
     /// Print the sweep's points, preps and jobs, what the store already holds, and what the
@@ -422,6 +423,13 @@ pub struct SubmitArgs {
     /// submit it, wait for its arrays, and again.
     #[arg(long, conflicts_with = "dry_run")]
     pub watch: bool,
+    /// As for `run`: put the sweep's failed jobs and preps back to pending and submit them.
+    #[arg(long, conflicts_with = "dry_run")]
+    pub retry_failed: bool,
+    /// Failed attempts before a job is marked failed and no longer submitted (default: the
+    /// sweep file's, else 3). `collect` records each failure; `submit` applies the limit.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub max_attempts: Option<u32>,
     /// Seconds between looks at the queue with --watch.
     #[arg(long, default_value_t = 30.0, value_name = "SECONDS", value_parser = poll_seconds)]
     pub poll: f64,

@@ -724,3 +724,114 @@ fn a_stale_run_directory_of_another_sweep_is_refused_by_submit_and_collect() {
         String::from_utf8_lossy(&c.stdout)
     );
 }
+
+#[test]
+fn failed_attempts_are_recorded_alike_by_both_engines() {
+    slurm_up();
+    let dir = workdir("failures");
+    let sweep = write_sweep(&dir, "failing");
+    let mut text = std::fs::read_to_string(&sweep).unwrap();
+    text += "[run]\nmax_attempts = 2\n";
+    std::fs::write(&sweep, text).unwrap();
+    // Prep 1 fails its first attempt (its jobs wait for the second); job 2 fails every one.
+    let faults = [
+        ("CELLSWEEP_TEST_FAIL_PREP", "1:1"),
+        ("CELLSWEEP_TEST_FAIL_TASK", "2:99"),
+    ];
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+            .current_dir(&dir)
+            .args(args)
+            .envs(faults)
+            .output()
+            .unwrap()
+    };
+    let local = run(&["run", "s.toml", "--db", "l.sqlite", "--workers", "2"]);
+    let slurm = run(&[
+        "submit",
+        "s.toml",
+        "--backend",
+        "slurm",
+        "--db",
+        "r.sqlite",
+        "--watch",
+        "--poll",
+        "0.5",
+    ]);
+    for (engine, out) in [("run", &local), ("submit", &slurm)] {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{engine}: {err}");
+        assert!(
+            err.contains("1 jobs of \"failing\" failed after retries")
+                && err.contains(&format!("cellsweep {engine} --retry-failed")),
+            "{engine}: {err}"
+        );
+    }
+    // The same rows, and the same errors and attempt counts, job by job and prep by prep.
+    let book =
+        |db: &str| -> Vec<String> {
+            let c = rusqlite::Connection::open(dir.join(db)).unwrap();
+            let mut rows = Vec::new();
+            for sql in [
+            "SELECT 'job', p.idx, j.replicate, j.state, j.attempts, COALESCE(j.error, '')
+             FROM jobs j JOIN points p ON p.id = j.point_id ORDER BY p.idx, j.replicate",
+            "SELECT 'prep', id, seed, state, attempts, COALESCE(error, '') FROM preps ORDER BY id",
+        ] {
+            let mut q = c.prepare(sql).unwrap();
+            let found = q
+                .query_map([], |r| {
+                    Ok((0..6)
+                        .map(|i| r.get::<_, rusqlite::types::Value>(i).map(|v| format!("{v:?}")))
+                        .collect::<rusqlite::Result<Vec<_>>>()?
+                        .join(" "))
+                })
+                .unwrap();
+            rows.extend(found.map(Result::unwrap));
+        }
+            rows
+        };
+    let slurm_book = book("r.sqlite");
+    assert_eq!(book("l.sqlite"), slurm_book);
+    let text = slurm_book.join("\n");
+    assert!(
+        text.contains("Text(\"failed\") Integer(2) Text(\"test hook: injected failure of task 2, attempt 2\")"),
+        "{text}"
+    );
+    assert_eq!(
+        db_count(
+            &dir.join("r.sqlite"),
+            "SELECT attempts FROM preps WHERE id = 1"
+        ),
+        1
+    );
+    assert_eq!(
+        common::result_rows(&dir.join("l.sqlite"), "failing"),
+        common::result_rows(&dir.join("r.sqlite"), "failing")
+    );
+    // Collecting the same records again counts no attempt twice.
+    let again = cellsweep(&dir, &["collect", "--db", "r.sqlite"]);
+    assert!(again.status.success());
+    assert_eq!(book("r.sqlite"), slurm_book);
+    // A retry on Slurm: the job gets two attempts anew, which fail again (the fault stays),
+    // and the records of the earlier ones are not counted again.
+    let retry = run(&[
+        "submit",
+        "s.toml",
+        "--backend",
+        "slurm",
+        "--db",
+        "r.sqlite",
+        "--watch",
+        "--poll",
+        "0.5",
+        "--retry-failed",
+    ]);
+    assert_eq!(retry.status.code(), Some(1));
+    assert_eq!(
+        db_count(
+            &dir.join("r.sqlite"),
+            "SELECT attempts FROM jobs WHERE id = 2"
+        ),
+        4
+    );
+}

@@ -44,7 +44,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
                 .render(&mut std::io::stdout())?;
             Ok(0)
         }
-        Command::Submit(args) => slurm::submit(args).map(|_| 0),
+        Command::Submit(args) => slurm::submit(args),
         Command::Collect(args) => slurm::collect(args).map(|_| 0),
         Command::Worker(args) => {
             if let Some(dir) = &args.slurm {

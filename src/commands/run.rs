@@ -86,7 +86,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
 
     if args.retry_failed {
         let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
-        println!("retrying {n} failed jobs and preps (attempts reset)");
+        println!("retrying {n} failed jobs and preps");
     }
     // A finished sweep (an adaptive one with no round to add): say so and run nothing.
     if !reg.created && reg.grown_from.is_none() {
@@ -112,7 +112,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
                 s.jobs.total()
             );
             summarize(&args, &store, reg.sweep_id, &sweep, false)?;
-            return Ok(failed_exit(s.jobs.failed as u64, &sweep.name));
+            return Ok(failed_exit(s.jobs.failed as u64, &sweep.name, "run"));
         }
     }
     let opts = RunOptions {
@@ -155,18 +155,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     )?;
     Ok(match report.ending {
         Ending::Interrupted => 130,
-        Ending::Finished => failed_exit(report.progress.failed, &sweep.name),
+        Ending::Finished => failed_exit(report.progress.failed, &sweep.name, "run"),
     })
 }
 
-/// Exit code of a finished run: 1, with the way out, if jobs failed after their retries.
-fn failed_exit(failed: u64, name: &str) -> i32 {
+/// Exit code of a finished run on either engine (`command`: run or submit): 1, with the way
+/// out, if jobs failed after their retries.
+pub(super) fn failed_exit(failed: u64, name: &str, command: &str) -> i32 {
     if failed == 0 {
         return 0;
     }
     eprintln!(
         "error: {failed} jobs of {name:?} failed after retries; `cellsweep status --failed` lists \
-         them with their errors, `cellsweep run --retry-failed` runs them again"
+         them with their errors, `cellsweep {command} --retry-failed` runs them again"
     );
     1
 }

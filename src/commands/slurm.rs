@@ -22,9 +22,10 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
             eprintln!("warning: {p}");
         }
         println!(
-            "collected {name:?} from {d}: {} preps and {} results new, {} already in the store, {} failed attempts reported",
+            "collected {name:?} from {d}: {} preps and {} results new, {} already in the store, {} failed attempts recorded",
             c.preps, c.results, c.already, c.failures
         );
+
         if c.planned > 0 {
             println!("  planned the next round: {} more replicates", c.planned);
         }
@@ -32,7 +33,7 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
     Ok(())
 }
 
-pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
+pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
     let sweep = Sweep::load(&args.sweep)?;
     let new = plan(&sweep, &args.sweep.display().to_string());
     let run_dir = args
@@ -53,6 +54,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
         max_running: args.max_array.map(|n| n as usize),
         sbatch_args: args.sbatch_args.clone(),
         exe: std::env::current_exe().context("cannot find the cellsweep executable")?,
+        max_attempts: args.max_attempts.unwrap_or(sweep.run.max_attempts),
         dry_run: args.dry_run,
     };
     opts.validate()?;
@@ -74,7 +76,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
                 &sweep.name
             )
         );
-        return Ok(());
+        return Ok(0);
     }
     if args.dry_run {
         // Read only: what would be submitted now, from the store as it is.
@@ -85,14 +87,14 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
                 sweep.name,
                 args.db.db.display()
             );
-            return Ok(());
+            return Ok(0);
         };
         let mut store = store;
         let sub = slurm::submit(&mut store, id, &sweep.name, SOLVER_VERSION, &opts)?;
         for (_, text) in &sub.scripts {
             println!("{text}");
         }
-        return Ok(());
+        return Ok(0);
     }
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
@@ -103,6 +105,10 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
             "sweep {:?} grew from {from} to {} replicates per point; the results already stored are kept",
             sweep.name, sweep.replicates
         );
+    }
+    if args.retry_failed {
+        let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
+        println!("retrying {n} failed jobs and preps");
     }
     loop {
         // First take in what finished (an adaptive sweep's next round is planned from it), and
@@ -123,7 +129,21 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
             continue;
         }
         let sub = slurm::submit(&mut store, reg.sweep_id, &sweep.name, SOLVER_VERSION, &opts)?;
+        if sub.opening.failed > 0 {
+            println!(
+                "{} preps and jobs are out of attempts ({}) or need a prep that is: failed for good",
+                sub.opening.failed, opts.max_attempts
+            );
+        }
         if sub.scripts.is_empty() {
+            let failed = failed_jobs(&store, &sweep.name)?;
+            if failed > 0 {
+                println!(
+                    "nothing to submit: every job of {:?} has a result or failed for good",
+                    sweep.name
+                );
+                return Ok(super::run::failed_exit(failed, &sweep.name, "submit"));
+            }
             println!(
                 "nothing to submit: every job of {:?} has a result{}",
                 sweep.name,
@@ -133,7 +153,7 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
                     ""
                 }
             );
-            return Ok(());
+            return Ok(0);
         }
         println!(
             "submitted {:?}: {} preps in {} array tasks, {} collisions in {} array tasks ({} per task); run directory {}",
@@ -152,10 +172,19 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<()> {
                     ""
                 }
             );
-            return Ok(());
+            return Ok(0);
         }
         std::thread::sleep(std::time::Duration::from_secs_f64(args.poll));
     }
+}
+
+/// Jobs of the sweep failed for good (after their attempts).
+fn failed_jobs(store: &Store, name: &str) -> anyhow::Result<u64> {
+    Ok(store
+        .status()?
+        .into_iter()
+        .find(|s| s.sweep == name && s.solver_version == SOLVER_VERSION)
+        .map_or(0, |s| s.jobs.failed as u64))
 }
 
 pub fn collect(args: CollectArgs) -> anyhow::Result<()> {

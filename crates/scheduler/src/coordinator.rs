@@ -12,12 +12,12 @@
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::time::Duration;
 
-use cellsweep_solver::{Config, Outcome, Verdict};
+use cellsweep_solver::{Outcome, Verdict};
 use cellsweep_store::{throughput, JobState, JobTask, OutcomeCounts, PrepTask, Store};
 use tokio::sync::mpsc;
 
 use crate::error::RunError;
-use crate::ledger::{Ledger, Settlement};
+use crate::ledger::{Failure, Ledger, Settlement, TaskRef};
 use crate::pool::{worker_task, Event, WorkerCommand};
 use crate::reserve::Reserve;
 use crate::wire::{PrepPayload, Request, Response};
@@ -101,7 +101,6 @@ fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, 
 struct Run<'a> {
     store: &'a mut Store,
     ledger: Ledger,
-    opts: RunOptions,
     prep_queue: VecDeque<PrepTask>,
     waiting: HashMap<i64, VecDeque<JobTask>>,
     ready: VecDeque<JobTask>,
@@ -116,7 +115,40 @@ struct Run<'a> {
     spans: Vec<(f64, f64)>,
 }
 
-impl Run<'_> {
+impl<'a> Run<'a> {
+    /// A run of the ledger's sweep: the preps still to compute queued first, then the jobs.
+    fn new(store: &'a mut Store, ledger: Ledger) -> Result<Self, RunError> {
+        let preps = store.preps_of(ledger.sweep_id, &ledger.version)?;
+        let mut run = Run {
+            store,
+            ledger,
+            prep_queue: VecDeque::new(),
+            waiting: HashMap::new(),
+            ready: VecDeque::new(),
+            queued: HashSet::new(),
+            ok_preps: HashSet::new(),
+            payloads: HashMap::new(),
+            prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
+            progress: Progress::default(),
+            spans: Vec::new(),
+        };
+        run.refresh_totals()?;
+        run.progress.preps_total = preps.len() as u64;
+        for prep in preps {
+            match prep.state {
+                JobState::Done | JobState::Failed => {
+                    run.progress.preps_done += 1;
+                    if prep.verdict.as_deref() == Some("ok") {
+                        run.ok_preps.insert(prep.id);
+                    }
+                }
+                _ => run.prep_queue.push_back(prep),
+            }
+        }
+        run.queue_pending()?;
+        Ok(run)
+    }
+
     /// Totals and counts from the store (at the start, and when a round adds jobs).
     fn refresh_totals(&mut self) -> Result<(), RunError> {
         let name = self.ledger.sweep.name.clone();
@@ -175,13 +207,7 @@ impl Run<'_> {
     fn next_request(&mut self, worker: &mut Worker) -> Result<Option<Request>, RunError> {
         if let Some(prep) = self.prep_queue.pop_front() {
             self.store.claim_prep(prep.id)?;
-            let config: Config = serde_json::from_str(&prep.config)?;
-            let req = Request::Prep {
-                task: prep.id,
-                attempt: prep.attempts + 1,
-                config,
-                seed: prep.seed,
-            };
+            let req = Request::prep(&prep)?;
             // The worker keeps the prep it computes (the mirror is mended if it fails).
             remember(&mut worker.preps, prep.id, ());
             worker.busy = Some(Busy::Prep(prep));
@@ -189,7 +215,6 @@ impl Run<'_> {
         }
         if let Some(job) = self.ready.pop_front() {
             self.store.claim_job(job.id)?;
-            let config: Config = serde_json::from_str(&job.config)?;
             let prep = if worker.preps.iter().any(|(id, _)| *id == job.prep_id) {
                 None
             } else {
@@ -197,14 +222,7 @@ impl Run<'_> {
                 remember(&mut worker.preps, job.prep_id, ());
                 Some(Box::new(payload))
             };
-            let req = Request::Collide {
-                task: job.id,
-                attempt: job.attempts + 1,
-                config,
-                seed: job.seed,
-                prep_id: job.prep_id,
-                prep,
-            };
+            let req = Request::collide(&job, prep)?;
             worker.busy = Some(Busy::Job(job));
             return Ok(Some(req));
         }
@@ -292,31 +310,31 @@ impl Run<'_> {
         Ok(())
     }
 
+    /// A failed attempt, recorded by the ledger: queued again, or counted as failed.
     fn on_failure(&mut self, busy: Busy, error: &str) -> Result<(), RunError> {
-        let max = self.opts.max_attempts;
-        match busy {
-            Busy::Prep(mut task) => {
-                match self.ledger.fail_prep(self.store, task.id, error, max)? {
-                    (JobState::Pending, _) => {
-                        self.progress.retries += 1;
-                        task.attempts += 1;
-                        self.prep_queue.push_front(task);
-                    }
-                    (_, failed) => {
-                        self.progress.preps_done += 1;
-                        self.progress.failed += failed as u64;
-                        self.waiting.remove(&task.id);
-                    }
-                }
+        let (task, attempt) = match &busy {
+            Busy::Prep(p) => (TaskRef::Prep(p.id), p.attempts + 1),
+            Busy::Job(j) => (TaskRef::Job(j.id), j.attempts + 1),
+        };
+        match (self.ledger.fail(self.store, task, attempt, error)?, busy) {
+            (Failure::Retry, Busy::Prep(mut p)) => {
+                self.progress.retries += 1;
+                p.attempts += 1;
+                self.prep_queue.push_front(p);
             }
-            Busy::Job(mut task) => match self.ledger.fail_job(self.store, task.id, error, max)? {
-                JobState::Pending => {
-                    self.progress.retries += 1;
-                    task.attempts += 1;
-                    self.ready.push_front(task);
-                }
-                _ => self.progress.failed += 1,
-            },
+            (Failure::Retry, Busy::Job(mut j)) => {
+                self.progress.retries += 1;
+                j.attempts += 1;
+                self.ready.push_front(j);
+            }
+            (Failure::GaveUp { jobs }, Busy::Prep(p)) => {
+                self.progress.preps_done += 1;
+                self.progress.failed += jobs as u64;
+                self.waiting.remove(&p.id);
+            }
+            (Failure::GaveUp { jobs }, Busy::Job(_)) => self.progress.failed += jobs as u64,
+            // (A task this run claimed is open and its prep is ready: not reached.)
+            (Failure::Already | Failure::PrepNotReady, _) => {}
         }
         Ok(())
     }
@@ -330,53 +348,15 @@ pub async fn run_sweep(
     opts: RunOptions,
     reporter: &mut dyn Reporter,
 ) -> Result<RunReport, RunError> {
-    let recovered = store.recover_running(sweep_id, version)?;
     let mut reserve = Reserve::beside(store.path());
-    if recovered > 0 {
+    let (ledger, opening) = Ledger::open(store, sweep_id, version, opts.max_attempts)?;
+    if opening.recovered > 0 {
         reporter.note(&format!(
-            "recovered {recovered} interrupted jobs and preps; they run again"
+            "recovered {} interrupted jobs and preps; they run again",
+            opening.recovered
         ));
     }
-    let ledger = Ledger::load(store, sweep_id, version)?;
-    // Work decided before: verdict preps settle jobs added since, complete rounds plan the next.
-    ledger.settle_decided(store)?;
-    ledger.plan_rounds(store)?;
-    let preps = store.preps_of(sweep_id, version)?;
-    let mut run = Run {
-        store,
-        ledger,
-        opts: opts.clone(),
-        prep_queue: VecDeque::new(),
-        waiting: HashMap::new(),
-        ready: VecDeque::new(),
-        queued: HashSet::new(),
-        ok_preps: HashSet::new(),
-        payloads: HashMap::new(),
-        prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
-        progress: Progress::default(),
-        spans: Vec::new(),
-    };
-    run.refresh_totals()?;
-    run.progress.preps_total = preps.len() as u64;
-    for prep in preps {
-        match prep.state {
-            JobState::Done => {
-                run.progress.preps_done += 1;
-                if prep.verdict.as_deref() == Some("ok") {
-                    run.ok_preps.insert(prep.id);
-                }
-            }
-            JobState::Failed => {
-                run.progress.preps_done += 1;
-                let n =
-                    run.ledger
-                        .fail_jobs_of_prep(run.store, prep.id, "failed in an earlier run")?;
-                run.progress.failed += n as u64;
-            }
-            _ => run.prep_queue.push_back(prep),
-        }
-    }
-    run.queue_pending()?;
+    let mut run = Run::new(store, ledger)?;
     reporter.progress(&run.progress);
 
     let work = run.prep_queue.len()

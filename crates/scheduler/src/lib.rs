@@ -25,7 +25,7 @@ pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
 pub use error::{AxisError, CallError, PayloadError, RunError, SlurmError, SweepError, ValueError};
-pub use ledger::{Ledger, RowCheck, Settlement};
+pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_targets};
 pub use pool::WorkerCommand;

@@ -16,11 +16,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use cellsweep_solver::Config;
 use cellsweep_store::{JobState, SlurmArray, Store};
 
 use crate::error::SlurmError;
-use crate::ledger::{Ledger, Settlement};
+use crate::ledger::{Failure, Ledger, Opening, Settlement, TaskRef};
 use crate::run_dir::{claim_run_dir, run_dir_is};
 use crate::wire::{PrepPayload, Request, Response};
 
@@ -37,12 +36,17 @@ pub struct SubmitOptions {
     pub sbatch_args: Vec<String>,
     /// The cellsweep executable the array tasks run (on the shared filesystem).
     pub exe: PathBuf,
+    /// Failed attempts after which a task is failed for good (applied when submitting: a
+    /// task out of attempts is not sent again).
+    pub max_attempts: u32,
     pub dry_run: bool,
 }
 
 /// What a submission did.
 #[derive(Debug, Clone, Default)]
 pub struct Submission {
+    /// What the ledger did before anything was sent.
+    pub opening: Opening,
     pub sub_dir: PathBuf,
     pub prep_tasks: usize,
     pub preps: usize,
@@ -224,18 +228,17 @@ pub fn submit(
     if let Some(uid) = store.sweep_uid(sweep_id, !opts.dry_run)? {
         claim_run_dir(&opts.run_dir, &uid, opts.dry_run)?;
     }
+    let mut opening = Opening::default();
     if !opts.dry_run {
-        // Work left `running` by a local run that was killed is unfinished: submit it too.
-        store.recover_running(sweep_id, version)?;
-        let ledger = Ledger::load(store, sweep_id, version)?;
-        ledger.settle_decided(store)?;
-        // An adaptive sweep's next round, for the points whose round is complete.
-        ledger.plan_rounds(store)?;
+        // The start every engine makes: work a killed local run left `running` is submitted
+        // too, tasks out of attempts fail for good, decided preps settle their jobs, an
+        // adaptive sweep plans its next round.
+        opening = Ledger::open(store, sweep_id, version, opts.max_attempts)?.1;
     }
     let preps = store.preps_of(sweep_id, version)?;
     let jobs = store.pending_jobs(sweep_id, version)?;
-    // Preps decided earlier: a verdict that is not ok settles its jobs; ok preps are written
-    // out for the collision tasks.
+    // Preps decided earlier: a verdict that is not ok settled its jobs (the ledger, above);
+    // ok preps are written out for the collision tasks.
     let mut prep_reqs = Vec::new();
     let mut blocked = std::collections::HashSet::new();
     for p in &preps {
@@ -248,36 +251,17 @@ pub fn submit(
                     write_atomic(&path, serde_json::to_string(&payload)?.as_bytes())?;
                 }
             }
-            // Its verdict settled its jobs (the ledger, above).
-            (JobState::Done, Some(_)) => {
+            (JobState::Done | JobState::Failed, _) => {
                 blocked.insert(p.id);
             }
-            (JobState::Failed, _) => {
-                blocked.insert(p.id);
-            }
-            _ => {
-                let config: Config = serde_json::from_str(&p.config)?;
-                prep_reqs.push(Request::Prep {
-                    task: p.id,
-                    attempt: p.attempts + 1,
-                    config,
-                    seed: p.seed,
-                });
-            }
+            _ => prep_reqs.push(Request::prep(p)?),
         }
     }
-    let mut job_reqs = Vec::new();
-    for j in jobs.iter().filter(|j| !blocked.contains(&j.prep_id)) {
-        let config: Config = serde_json::from_str(&j.config)?;
-        job_reqs.push(Request::Collide {
-            task: j.id,
-            attempt: j.attempts + 1,
-            config,
-            seed: j.seed,
-            prep_id: j.prep_id,
-            prep: None,
-        });
-    }
+    let job_reqs = jobs
+        .iter()
+        .filter(|j| !blocked.contains(&j.prep_id))
+        .map(|j| Request::collide(j, None))
+        .collect::<Result<Vec<_>, _>>()?;
     let max_index = max_array_size().unwrap_or(1001).saturating_sub(1).max(1);
     let per_task = opts
         .jobs_per_task
@@ -291,6 +275,7 @@ pub fn submit(
         .run_dir
         .join(format!("sub-{n:04}-{}", std::process::id()));
     let mut sub = Submission {
+        opening,
         sub_dir: sub_dir.clone(),
         jobs_per_task: per_task,
         preps: prep_reqs.len(),
@@ -425,12 +410,10 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
                 }) {
                 Ok(p) => *prep = Some(Box::new(p)),
                 Err(error) => {
-                    let resp = Response::Failed {
-                        task: req.task(),
-                        error: error.to_string(),
-                    };
-                    writeln!(out, "{}", serde_json::to_string(&resp)?)
-                        .map_err(|e| io(e, &results))?;
+                    // The job could not start: that is its prep's failure (recorded from the
+                    // prep task), not an attempt of its own. It stays pending, and the next
+                    // `submit` sends it again with its prep.
+                    eprintln!("{kind} task {task}: job {} skipped: {error}", req.task());
                     continue;
                 }
             }
@@ -489,6 +472,7 @@ pub struct Collected {
     pub preps: usize,
     pub results: usize,
     pub already: usize,
+    /// Failed attempts recorded now (each kept with its error and number).
     pub failures: usize,
     pub problems: Vec<String>,
     /// Jobs of an adaptive sweep's next rounds, added after collecting.
@@ -550,6 +534,10 @@ pub fn collect(
     }
     files.sort();
     for f in files {
+        // A prep task's file holds only its failures (a prep's result is its prep file).
+        let prep_file = f
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("prep-"));
         let (responses, problems) = read_responses(&f);
         c.problems.extend(problems);
         for r in responses {
@@ -565,7 +553,21 @@ pub fn collect(
                         c.problems.push(format!("{}: refused: {why}", f.display()))
                     }
                 },
-                Response::Failed { .. } => c.failures += 1,
+                Response::Failed {
+                    task,
+                    attempt,
+                    error,
+                } => {
+                    let of = if prep_file {
+                        TaskRef::Prep(task)
+                    } else {
+                        TaskRef::Job(task)
+                    };
+                    match ledger.fail(store, of, attempt, &error)? {
+                        Failure::Retry | Failure::GaveUp { .. } => c.failures += 1,
+                        Failure::Already | Failure::PrepNotReady => {}
+                    }
+                }
                 Response::Prep { .. } => {}
             }
         }

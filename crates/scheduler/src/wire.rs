@@ -4,7 +4,7 @@
 use base64::engine::general_purpose::STANDARD as B64;
 use base64::Engine;
 use cellsweep_solver::{Config, FieldSummary, Prep, TrajectoryResult, Verdict};
-use cellsweep_store::{bytes_to_f64s, f64s_to_bytes, PrepRecord};
+use cellsweep_store::{bytes_to_f64s, f64s_to_bytes, JobTask, PrepRecord, PrepTask};
 use serde::{Deserialize, Serialize};
 
 use crate::error::PayloadError;
@@ -141,9 +141,41 @@ pub enum Request {
 }
 
 impl Request {
+    /// The request that computes a prep the store holds, as its next attempt.
+    pub fn prep(p: &PrepTask) -> Result<Request, serde_json::Error> {
+        Ok(Request::Prep {
+            task: p.id,
+            attempt: p.attempts + 1,
+            config: serde_json::from_str(&p.config)?,
+            seed: p.seed,
+        })
+    }
+
+    /// The request that runs a job's collision, as its next attempt; `prep` is its prep's
+    /// fields where the worker does not hold them yet (a Slurm task reads them from its file).
+    pub fn collide(
+        j: &JobTask,
+        prep: Option<Box<PrepPayload>>,
+    ) -> Result<Request, serde_json::Error> {
+        Ok(Request::Collide {
+            task: j.id,
+            attempt: j.attempts + 1,
+            config: serde_json::from_str(&j.config)?,
+            seed: j.seed,
+            prep_id: j.prep_id,
+            prep,
+        })
+    }
+
     pub fn task(&self) -> i64 {
         match self {
             Request::Prep { task, .. } | Request::Collide { task, .. } => *task,
+        }
+    }
+
+    pub fn attempt(&self) -> u32 {
+        match self {
+            Request::Prep { attempt, .. } | Request::Collide { attempt, .. } => *attempt,
         }
     }
 }
@@ -162,10 +194,18 @@ pub enum Response {
         result: Box<TrajectoryResult>,
         wall_s: f64,
     },
+    /// The attempt failed, with the error in words.
     Failed {
         task: i64,
+        /// The request's attempt number (records written before it was sent say none: 1).
+        #[serde(default = "first_attempt")]
+        attempt: u32,
         error: String,
     },
+}
+
+fn first_attempt() -> u32 {
+    1
 }
 
 impl Response {

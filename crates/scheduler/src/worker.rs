@@ -4,7 +4,10 @@
 //! Test hooks (environment variables, used by the test suite to fake faults in real processes):
 //! `CELLSWEEP_TEST_CRASH_TASK=ID` aborts the process on collision task ID while its attempt number
 //! is at most `CELLSWEEP_TEST_CRASH_ATTEMPTS` (default 1); `CELLSWEEP_TEST_HANG_TASK=ID` makes the
-//! worker hang on collision task ID (first attempt only).
+//! worker hang on collision task ID (first attempt only); `CELLSWEEP_TEST_FAIL_TASK=ID:N` (a
+//! collision) or `CELLSWEEP_TEST_FAIL_PREP=ID:N` (a prep) answers that task with a failure while
+//! its attempt number is at most N: a fault that both engines record the same way, where a
+//! crash is seen only by the local one.
 
 use std::collections::VecDeque;
 use std::io::{BufRead, Write};
@@ -38,6 +41,20 @@ fn test_hooks(req: &Request) {
     }
 }
 
+/// The injected failure of `CELLSWEEP_TEST_FAIL_TASK` / `CELLSWEEP_TEST_FAIL_PREP`, if it
+/// applies to this request.
+fn injected_failure(req: &Request) -> Option<String> {
+    let (var, task, attempt) = match req {
+        Request::Prep { task, attempt, .. } => ("CELLSWEEP_TEST_FAIL_PREP", task, attempt),
+        Request::Collide { task, attempt, .. } => ("CELLSWEEP_TEST_FAIL_TASK", task, attempt),
+    };
+    let value = std::env::var(var).ok()?;
+    let (id, upto) = value.split_once(':')?;
+    let fails =
+        id.trim().parse() == Ok(*task) && upto.trim().parse().is_ok_and(|n: u32| *attempt <= n);
+    fails.then(|| format!("test hook: injected failure of task {task}, attempt {attempt}"))
+}
+
 /// The preps a worker keeps, newest last.
 pub type PrepCache = VecDeque<(i64, Prep)>;
 
@@ -53,6 +70,7 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()>
             Ok(req) => answer(req, &mut cache),
             Err(e) => Response::Failed {
                 task: -1,
+                attempt: 0,
                 error: format!("malformed request: {e}"),
             },
         };
@@ -65,20 +83,25 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()>
 /// The response to one request (a solver panic becomes a failure, never a crash).
 pub fn answer(req: Request, cache: &mut PrepCache) -> Response {
     test_hooks(&req);
-    let task = req.task();
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, cache))).unwrap_or_else(
-        |panic| {
+    let (task, attempt) = (req.task(), req.attempt());
+    let failed = |error: String| Response::Failed {
+        task,
+        attempt,
+        error,
+    };
+    if let Some(error) = injected_failure(&req) {
+        return failed(error);
+    }
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, cache)))
+        .unwrap_or_else(|panic| {
             let msg = panic
                 .downcast_ref::<String>()
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
-            Response::Failed {
-                task,
-                error: format!("solver panicked: {msg}"),
-            }
-        },
-    )
+            Err(format!("solver panicked: {msg}"))
+        })
+        .unwrap_or_else(failed)
 }
 
 /// Keep `value` as prep `id` in a worker's cache of at most [`CACHE`] preps, the oldest
@@ -92,7 +115,7 @@ pub fn remember<T>(cache: &mut VecDeque<(i64, T)>, id: i64, value: T) {
     cache.push_back((id, value));
 }
 
-fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
+fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, String> {
     let started = Instant::now();
     match req {
         Request::Prep {
@@ -101,16 +124,13 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
             Ok(prep) => {
                 let payload = Box::new(PrepPayload::from_prep(&prep));
                 remember(cache, task, prep);
-                Response::Prep {
+                Ok(Response::Prep {
                     task,
                     prep: payload,
                     wall_s: started.elapsed().as_secs_f64(),
-                }
+                })
             }
-            Err(e) => Response::Failed {
-                task,
-                error: e.to_string(),
-            },
+            Err(e) => Err(e.to_string()),
         },
         Request::Collide {
             task,
@@ -121,33 +141,26 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
             ..
         } => {
             if let Some(payload) = prep {
-                match payload.to_prep() {
-                    Ok(p) => remember(cache, prep_id, p),
-                    Err(e) => {
-                        return Response::Failed {
-                            task,
-                            error: e.to_string(),
-                        }
-                    }
-                }
+                remember(
+                    cache,
+                    prep_id,
+                    payload.to_prep().map_err(|e| e.to_string())?,
+                );
             }
             let Some((_, prep)) = cache.iter().find(|(k, _)| *k == prep_id) else {
-                return Response::Failed {
-                    task,
-                    error: format!("prep {prep_id} was not sent to this worker"),
-                };
+                return Err(format!("prep {prep_id} was not sent to this worker"));
             };
             if prep.verdict != Verdict::Ok {
                 // No collision starts from a cell that is not `ok` (SPEC section 4): a Slurm
                 // collide task can meet one, since its array is submitted before the preps'
                 // verdicts are known. The record says the prep decided the job.
-                return Response::Collide {
+                return Ok(Response::Collide {
                     task,
                     result: Box::new(TrajectoryResult::new(&config, prep, seed, None)),
                     wall_s: started.elapsed().as_secs_f64(),
-                };
+                });
             }
-            match collide(
+            collide(
                 &config.params,
                 &config.protocol,
                 &config.classifier,
@@ -155,17 +168,13 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Response {
                 seed,
                 &mut Silent,
                 false,
-            ) {
-                Ok(c) => Response::Collide {
-                    task,
-                    result: Box::new(TrajectoryResult::new(&config, prep, seed, Some(&c))),
-                    wall_s: started.elapsed().as_secs_f64(),
-                },
-                Err(e) => Response::Failed {
-                    task,
-                    error: e.to_string(),
-                },
-            }
+            )
+            .map(|c| Response::Collide {
+                task,
+                result: Box::new(TrajectoryResult::new(&config, prep, seed, Some(&c))),
+                wall_s: started.elapsed().as_secs_f64(),
+            })
+            .map_err(|e| e.to_string())
         }
     }
 }

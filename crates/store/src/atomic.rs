@@ -6,8 +6,8 @@ use std::ops::Deref;
 
 use rusqlite::{Connection, Savepoint, Transaction, TransactionBehavior};
 
+use crate::database::Store;
 use crate::error::{Result, StoreError};
-use crate::store::Store;
 
 /// One write in progress: its own transaction, or a savepoint inside a larger one. Dropped
 /// without [`Write::commit`], it is rolled back.

@@ -15,9 +15,10 @@ use rand_chacha::ChaCha8Rng;
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
+use crate::database::Store;
+use crate::encoding::seed_from_sql;
 use crate::error::Result;
 use crate::phase::{Counts, Label};
-use crate::store::{seed_from_sql, Store};
 
 /// How one replicate ended: its collision's outcome, or its prep's verdict where the prep was
 /// not `ok` (no collision ran). `Breakup` is the prep's verdict; a collision in which a cell

@@ -6,9 +6,10 @@ use std::collections::HashMap;
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
+use crate::database::Store;
 use crate::digest::fnv1a;
+use crate::encoding::seed_from_sql;
 use crate::error::Result;
-use crate::store::{seed_from_sql, Store};
 
 /// Version of the exported columns; bumped on any change to them. Format 2 added the wall
 /// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`.

@@ -6,9 +6,10 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use rusqlite::{params, OptionalExtension};
 
+use crate::database::Store;
+use crate::encoding::seed_from_sql;
 use crate::error::Result;
 use crate::lifecycle::JobState;
-use crate::store::{seed_from_sql, Store};
 
 /// What the store says a job is: the ledger checks every record that claims it against this.
 #[derive(Debug, Clone, PartialEq)]

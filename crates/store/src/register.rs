@@ -4,8 +4,62 @@
 
 use rusqlite::{params, OptionalExtension};
 
+use crate::database::Store;
+use crate::encoding::{now, seed_to_sql};
 use crate::error::{Result, StoreError};
-use crate::store::{now, seed_to_sql, NewSweep, Registration, Store};
+
+/// A sweep to register: its points, their jobs, and the preps they start from.
+#[derive(Debug, Clone)]
+pub struct NewSweep {
+    pub name: String,
+    /// Canonical JSON of the expanded definition; a different text is a different sweep.
+    pub spec: String,
+    pub source: String,
+    pub solver_version: String,
+    pub preps: Vec<NewPrep>,
+    pub points: Vec<NewPoint>,
+}
+
+#[derive(Debug, Clone)]
+pub struct NewPrep {
+    pub key: String,
+    pub seed: u64,
+    /// JSON of what a worker needs to compute it (parameters and protocol).
+    pub config: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct NewPoint {
+    pub alpha: f64,
+    pub beta: f64,
+    pub spacing: u32,
+    pub sigma: f64,
+    /// JSON of what a worker needs to run a collision (parameters, protocol, classifier).
+    pub config: String,
+    pub jobs: Vec<NewJob>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct NewJob {
+    pub replicate: u32,
+    pub seed: u64,
+    /// Index into [`NewSweep::preps`].
+    pub prep: usize,
+}
+
+/// What registering a sweep found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Registration {
+    pub sweep_id: i64,
+    /// The sweep was new.
+    pub created: bool,
+    /// The sweep was registered with this many replicates per point and now has more.
+    pub grown_from: Option<u32>,
+    /// An older sweep of the same name was archived under this name (`--replace`).
+    pub archived_as: Option<String>,
+    /// Results of this sweep under other solver versions: (version, count). They stay apart.
+    pub other_versions: Vec<(String, i64)>,
+}
 
 impl Store {
     /// Register `sweep` (or find it registered), and make sure every one of its preps and jobs

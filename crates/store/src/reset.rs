@@ -6,8 +6,8 @@
 use rusqlite::params;
 use serde::Serialize;
 
+use crate::database::Store;
 use crate::error::Result;
-use crate::store::Store;
 
 /// A registered point: its row id and the four swept parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -63,8 +63,8 @@ impl Store {
         Ok(n)
     }
 
-    /// Put every job of `version` at these points back to `pending` with its attempts and error
-    /// cleared, deleting the results of those that were done; one transaction, so either all of
+    /// Put every job of `version` at these points back to `pending` with its error cleared and
+    /// its attempts anew (the count goes on, as for a retry), deleting the results of those that were done; one transaction, so either all of
     /// them go back or none. Preps are kept: a prep decides its jobs again when the run starts.
     /// The caller holds the writer lock (no run is live), so a `running` job is one a killed
     /// run left behind; a Slurm array in flight may still deliver a record for a job put back,
@@ -82,7 +82,7 @@ impl Store {
                 params![point, version],
             )?;
             out.jobs += tx.execute(
-                "UPDATE jobs SET state = 'pending', attempts = 0, error = NULL,
+                "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts, error = NULL,
                      started_at = NULL, finished_at = NULL
                  WHERE point_id = ?1 AND solver_version = ?2 AND state != 'pending'",
                 params![point, version],

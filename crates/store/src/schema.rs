@@ -1,12 +1,15 @@
 //! The store's schema. Documented for users in the README ("The store").
 
 /// Version of the layout below; bumped on incompatible changes. Version 2 lets a collision end
-/// in `breakup` (SPEC section 5) and keeps its reason; a version 1 store is migrated by the
-/// first writer that opens it ([`MIGRATE_1_TO_2`]) and read as it is by the readers.
-pub const SCHEMA_VERSION: u32 = 2;
+/// in `breakup` (SPEC section 5) and keeps its reason; version 3 keeps, per prep and job, the
+/// failed attempts counted before its latest retry (`attempts_at_retry`), so that `attempts`
+/// only ever grows and a failure record read twice (a Slurm results file) counts once. An older
+/// store is migrated by the first writer that opens it ([`MIGRATE_1_TO_2`], [`MIGRATE_2_TO_3`])
+/// and read as it is by the readers.
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Versions a reader opens as they are.
-pub const READ_SCHEMAS: [u32; 2] = [1, 2];
+pub const READ_SCHEMAS: [u32; 3] = [1, 2, 3];
 
 /// Identifies a cellsweep database in its `meta` table.
 pub const APPLICATION: &str = "cellsweep";
@@ -60,6 +63,8 @@ CREATE TABLE preps (
     summary        TEXT,
     wall_s         REAL,
     finished_at    REAL,
+    -- Failed attempts before the latest retry: it gives up after `max_attempts` more.
+    attempts_at_retry INTEGER NOT NULL DEFAULT 0,
     UNIQUE (key, seed, solver_version)
 );
 
@@ -76,6 +81,7 @@ CREATE TABLE jobs (
     error          TEXT,
     started_at     REAL,
     finished_at    REAL,
+    attempts_at_retry INTEGER NOT NULL DEFAULT 0,
     UNIQUE (point_id, replicate, solver_version)
 );
 
@@ -152,4 +158,11 @@ INSERT INTO results_v2 (job_id, solver_version, verdict, outcome, contact_time, 
 DROP TABLE results;
 ALTER TABLE results_v2 RENAME TO results;
 UPDATE meta SET value = '2' WHERE key = 'schema_version';
+"#;
+
+/// Version 2 to 3: preps and jobs gain `attempts_at_retry` (a retry used to reset `attempts`).
+pub const MIGRATE_2_TO_3: &str = r#"
+ALTER TABLE preps ADD COLUMN attempts_at_retry INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN attempts_at_retry INTEGER NOT NULL DEFAULT 0;
+UPDATE meta SET value = '3' WHERE key = 'schema_version';
 "#;

@@ -4,9 +4,10 @@
 
 use rusqlite::{params, OptionalExtension};
 
+use crate::database::Store;
+use crate::encoding::now;
 use crate::error::{Result, StoreError};
 use crate::lifecycle::JobState;
-use crate::store::{now, Store};
 
 impl Store {
     /// Put the sweep's `running` preps and jobs of `version` back to `pending`: a coordinator that
@@ -75,40 +76,89 @@ impl Store {
         })
     }
 
-    /// A failed attempt of a running job: back to pending, or failed for good once `max_attempts`
-    /// attempts have failed. Returns the new state.
-    pub fn fail_job(&mut self, id: i64, error: &str, max_attempts: u32) -> Result<JobState> {
-        self.fail("jobs", "job", id, error, max_attempts)
+    /// Record failed attempt number `attempt` of a job (one guarded UPDATE): back to pending,
+    /// or failed for good once `max_attempts` attempts have failed since its latest retry
+    /// (`None`: the limit is not known here, and [`Store::give_up_exhausted`] applies it later).
+    /// Returns the new state, or `None` when that attempt is already recorded or the job is no
+    /// longer open (done, or failed for good): a record read twice counts once.
+    pub fn fail_job(
+        &mut self,
+        id: i64,
+        attempt: u32,
+        error: &str,
+        max_attempts: Option<u32>,
+    ) -> Result<Option<JobState>> {
+        self.fail("jobs", id, attempt, error, max_attempts)
     }
 
-    /// A failed attempt of a running prep (see [`Store::fail_job`]).
-    pub fn fail_prep(&mut self, id: i64, error: &str, max_attempts: u32) -> Result<JobState> {
-        self.fail("preps", "prep", id, error, max_attempts)
+    /// Record a failed attempt of a prep (see [`Store::fail_job`]).
+    pub fn fail_prep(
+        &mut self,
+        id: i64,
+        attempt: u32,
+        error: &str,
+        max_attempts: Option<u32>,
+    ) -> Result<Option<JobState>> {
+        self.fail("preps", id, attempt, error, max_attempts)
     }
 
     fn fail(
         &mut self,
         table: &str,
-        what: &'static str,
         id: i64,
+        attempt: u32,
         error: &str,
-        max_attempts: u32,
-    ) -> Result<JobState> {
+        max_attempts: Option<u32>,
+    ) -> Result<Option<JobState>> {
+        // Attempt n is the one made after n - 1 failed: the local engine's task is `running`,
+        // a Slurm task stays `pending` until its record is collected.
         let n = self.conn.execute(
             &format!(
                 "UPDATE {table} SET attempts = attempts + 1, error = ?2,
-                     state = CASE WHEN attempts + 1 >= ?3 THEN 'failed' ELSE 'pending' END
-                 WHERE id = ?1 AND state = 'running'"
+                     state = CASE WHEN ?3 IS NOT NULL AND attempts + 1 - attempts_at_retry >= ?3
+                                  THEN 'failed' ELSE 'pending' END
+                 WHERE id = ?1 AND state IN ('pending', 'running') AND attempts = ?4 - 1"
             ),
-            params![id, error, max_attempts],
+            params![id, error, max_attempts, attempt],
         )?;
-        self.expect_one(n, what, id, "running", table)?;
+        if n == 0 {
+            return Ok(None);
+        }
         let s: String = self.conn.query_row(
             &format!("SELECT state FROM {table} WHERE id = ?1"),
             [id],
             |r| r.get(0),
         )?;
-        Ok(JobState::parse(&s).unwrap_or(JobState::Failed))
+        Ok(Some(JobState::parse(&s).unwrap_or(JobState::Failed)))
+    }
+
+    /// Fail for good the sweep's pending preps and jobs of `version` that have failed
+    /// `max_attempts` attempts since their latest retry (recorded where the limit was not
+    /// known: a Slurm collect). Returns how many preps and jobs.
+    pub fn give_up_exhausted(
+        &mut self,
+        sweep_id: i64,
+        version: &str,
+        max_attempts: u32,
+    ) -> Result<usize> {
+        let tx = self.write()?;
+        let preps = tx.execute(
+            "UPDATE preps SET state = 'failed'
+             WHERE state = 'pending' AND attempts - attempts_at_retry >= ?3
+               AND solver_version = ?2 AND id IN (
+                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1)",
+            params![sweep_id, version, max_attempts],
+        )?;
+        let jobs = tx.execute(
+            "UPDATE jobs SET state = 'failed'
+             WHERE state = 'pending' AND attempts - attempts_at_retry >= ?3
+               AND solver_version = ?2
+               AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
+            params![sweep_id, version, max_attempts],
+        )?;
+        tx.commit()?;
+        Ok(preps + jobs)
     }
 
     /// Mark the sweep's pending jobs of a failed prep as failed (they cannot run).

@@ -108,32 +108,57 @@ fn a_job_goes_pending_running_done_exactly_once() {
     );
 
     let id = jobs[0].id;
-    // Not running yet: cannot be committed.
-    assert!(matches!(
-        store.commit_result(id, "v1", &record("train")),
-        Err(StoreError::BadTransition { .. })
-    ));
     store.claim_job(id).unwrap();
     assert!(
         store.claim_job(id).is_err(),
         "a running job cannot be claimed again"
     );
-    store.commit_result(id, "v1", &record("train")).unwrap();
+    assert!(store.record_result(id, "v1", &record("train")).unwrap());
     assert!(
-        store.commit_result(id, "v1", &record("walk_past")).is_err(),
+        !store.record_result(id, "v1", &record("walk_past")).unwrap(),
         "never twice"
+    );
+    assert!(
+        !store
+            .record_result(jobs[1].id, "v0", &record("train"))
+            .unwrap(),
+        "never under another solver version"
     );
     assert_eq!(store.pending_jobs(reg.sweep_id, "v1").unwrap().len(), 2);
 
-    // Failures: retried until the limit, then failed with the error.
+    // Failures: retried until the limit, then failed with the error. Each attempt counts
+    // once, however often its record is read (a Slurm results file is read at every collect),
+    // and a running (local) or pending (Slurm) job records it alike.
     let id2 = jobs[1].id;
     store.claim_job(id2).unwrap();
     assert_eq!(
-        store.fail_job(id2, "crash 1", 2).unwrap(),
-        JobState::Pending
+        store.fail_job(id2, 1, "crash 1", Some(2)).unwrap(),
+        Some(JobState::Pending)
     );
-    store.claim_job(id2).unwrap();
-    assert_eq!(store.fail_job(id2, "crash 2", 2).unwrap(), JobState::Failed);
+    assert_eq!(store.fail_job(id2, 1, "crash 1", Some(2)).unwrap(), None);
+    assert_eq!(
+        store.fail_job(id2, 3, "a later attempt", Some(2)).unwrap(),
+        None,
+        "attempt 2 is the next one"
+    );
+    assert_eq!(
+        store.fail_job(id2, 2, "crash 2", Some(2)).unwrap(),
+        Some(JobState::Failed)
+    );
+    assert_eq!(store.fail_job(id2, 2, "crash 2", Some(2)).unwrap(), None);
+    // A retry gives it two attempts anew; the old records still count for nothing.
+    assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
+    for old in [1, 2] {
+        assert_eq!(store.fail_job(id2, old, "old", 2).unwrap(), None);
+    }
+    assert_eq!(
+        store.fail_job(id2, 3, "crash 3", Some(2)).unwrap(),
+        Some(JobState::Pending)
+    );
+    assert_eq!(
+        store.fail_job(id2, 4, "crash 4", Some(2)).unwrap(),
+        Some(JobState::Failed)
+    );
 
     // A killed coordinator leaves a job running; recovery makes it pending again.
     let id3 = jobs[2].id;
@@ -165,7 +190,7 @@ fn sweeps_and_solver_versions_stay_apart() {
     assert_eq!(store.pending_jobs(a.sweep_id, "v1").unwrap().len(), 3);
     let j = store.pending_jobs(a.sweep_id, "v1").unwrap()[0].id;
     store.claim_job(j).unwrap();
-    store.commit_result(j, "v1", &record("train")).unwrap();
+    assert!(store.record_result(j, "v1", &record("train")).unwrap());
 
     // A new solver version gets its own jobs and preps; the old results are reported, not mixed.
     let v2 = store.register(&sweep("{\"a\":1}", "v2"), false).unwrap();
@@ -202,7 +227,7 @@ fn a_sweep_grows_its_replicates_but_never_shrinks() {
     let jobs = store.pending_jobs(a.sweep_id, "v1").unwrap();
     for j in &jobs[..2] {
         store.claim_job(j.id).unwrap();
-        store.commit_result(j.id, "v1", &record("train")).unwrap();
+        assert!(store.record_result(j.id, "v1", &record("train")).unwrap());
     }
 
     // 3 -> 5: the same sweep, its two results kept, and only replicates 3 and 4 added.
@@ -248,4 +273,45 @@ fn a_sweep_grows_its_replicates_but_never_shrinks() {
         .register(&sweep_of(other, "v1", 6), false)
         .unwrap_err();
     assert!(matches!(e, StoreError::SweepConflict { .. }), "{e}");
+}
+
+#[test]
+fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
+    let path = tmp("migrate");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let reg = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
+    let id = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
+    assert!(store.record_result(id, "v1", &record("train")).unwrap());
+    drop(store);
+    // The layout of version 2: no attempts_at_retry.
+    let sql = |q: &str| {
+        let c = rusqlite::Connection::open(&path).unwrap();
+        c.execute_batch(q).unwrap();
+    };
+    sql("ALTER TABLE jobs DROP COLUMN attempts_at_retry;
+         ALTER TABLE preps DROP COLUMN attempts_at_retry;
+         UPDATE meta SET value = '2' WHERE key = 'schema_version';");
+    let version = |p: &PathBuf| -> String {
+        let c = rusqlite::Connection::open(p).unwrap();
+        c.query_row(
+            "SELECT value FROM meta WHERE key = 'schema_version'",
+            [],
+            |r| r.get(0),
+        )
+        .unwrap()
+    };
+    let read = Store::open_read(&path).unwrap();
+    assert_eq!(read.status().unwrap()[0].outcomes.train, 1);
+    drop(read);
+    assert_eq!(version(&path), "2", "a reader changes nothing");
+    let mut store = Store::open(&path).unwrap();
+    assert_eq!(version(&path), "3");
+    let j = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
+    store.claim_job(j).unwrap();
+    assert_eq!(
+        store.fail_job(j, 1, "crash", Some(1)).unwrap(),
+        Some(JobState::Failed)
+    );
+    assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
+    assert_eq!(store.status().unwrap()[0].outcomes.train, 1);
 }

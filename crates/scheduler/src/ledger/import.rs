@@ -1,0 +1,168 @@
+//! Exported rows (`cellsweep import`) checked against the jobs they claim, and committed.
+
+use cellsweep_solver::{Config, Params};
+use cellsweep_store::export::{changed_params, ExportRow};
+use cellsweep_store::{JobState, ResultRecord, Store};
+use serde_json::json;
+
+use super::{Ledger, Settlement};
+use crate::error::RunError;
+
+/// What [`Ledger::check_row`] found of an exported row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RowCheck {
+    /// The row matches this job, which has no result yet.
+    Commit(i64),
+    /// The row matches a job that already has its result.
+    Already,
+    /// The row does not match the job it claims, with the reason.
+    Refused(String),
+}
+
+impl Ledger {
+    /// Check an exported row (`cellsweep export`) against the job it claims: its sweep, point,
+    /// replicate, both seeds, the parameters that differ from the defaults, precision,
+    /// classifier, solver version, and the prep's verdict and field hash (so the prep must be
+    /// computed).
+    pub fn check_row(&self, store: &Store, row: &ExportRow) -> Result<RowCheck, RunError> {
+        let at = format!(
+            "alpha = {}, beta = {}, L = {}, sigma = {}, replicate {}",
+            row.alpha, row.beta, row.L, row.sigma, row.replicate
+        );
+        let refuse = |why: String| Ok(RowCheck::Refused(format!("{at}: {why}")));
+        if row.sweep != self.sweep.name {
+            return refuse(format!(
+                "a row of sweep {:?}, not {:?}",
+                row.sweep, self.sweep.name
+            ));
+        }
+        if row.solver_version != self.version {
+            return refuse(format!(
+                "solver version {:?}, this build is {:?}",
+                row.solver_version, self.version
+            ));
+        }
+        let axes = (row.alpha, row.beta, row.L, row.sigma);
+        let Some(job_id) = store.job_at(self.sweep_id, &self.version, axes, row.replicate)? else {
+            return refuse("no such job in the sweep".into());
+        };
+        let job = store
+            .job_identity(job_id)?
+            .expect("a job just found exists");
+        if job.seed != row.collision_seed {
+            return refuse(format!(
+                "collision seed {} is not the job's {}",
+                row.collision_seed, job.seed
+            ));
+        }
+        let prep = store.prep_identity(job.prep_id, self.sweep_id)?;
+        if prep.as_ref().map(|p| p.seed) != Some(row.prep_seed) {
+            return refuse(format!(
+                "prep seed {} is not the job's prep's",
+                row.prep_seed
+            ));
+        }
+        let config_json: serde_json::Value = serde_json::from_str(&job.config)?;
+        let defaults = serde_json::to_value(Params::default())?;
+        if changed_params(&config_json, &defaults) != row.params {
+            return refuse(format!("parameters {} are not the job's", row.params));
+        }
+        let config: Config = serde_json::from_str(&job.config)?;
+        let steps = match config.protocol.validate(&config.params) {
+            Ok(steps) => steps,
+            Err(e) => return refuse(format!("the job's protocol: {e}")),
+        };
+        let end = steps.collide as f64 * config.params.dt;
+        for (field, t) in [
+            ("contact_time", row.contact_time),
+            ("decision_time", row.decision_time),
+        ] {
+            if t.is_some_and(|t| t > end * (1.0 + 1e-9)) {
+                return refuse(format!(
+                    "{field} = {} is after the collision's end at {end} tau0",
+                    t.unwrap_or_default()
+                ));
+            }
+        }
+        if row.collision_steps as u64 > steps.collide {
+            return refuse(format!(
+                "collision_steps = {} is more than the collision's {}",
+                row.collision_steps, steps.collide
+            ));
+        }
+        if config.protocol.precision.as_str() != row.precision {
+            return refuse(format!("precision {} is not the job's", row.precision));
+        }
+        let classifier: Result<serde_json::Value, _> = serde_json::from_str(&row.classifier);
+        if classifier.ok() != Some(serde_json::to_value(&config.classifier)?) {
+            return refuse("classifier settings are not the job's".into());
+        }
+        let Some(verdict) = job.prep_verdict.as_deref() else {
+            return refuse("its prep is not computed yet".into());
+        };
+        let hash = store.prep_hash(job.prep_id)?;
+        if hash != row.prep_hash {
+            return refuse(format!(
+                "prep hash {} is not that of the prep computed here ({hash})",
+                row.prep_hash
+            ));
+        }
+        let outcome_ok = match row.outcome.as_deref() {
+            None => verdict != "ok",
+            Some(o) => {
+                verdict == "ok"
+                    && ["train", "walk_past", "reversal", "undetermined", "breakup"].contains(&o)
+            }
+        };
+        if row.verdict != verdict || !outcome_ok {
+            return refuse(format!(
+                "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
+                row.verdict,
+                row.outcome.as_deref().unwrap_or("")
+            ));
+        }
+        Ok(match job.state {
+            JobState::Done => RowCheck::Already,
+            _ => RowCheck::Commit(job_id),
+        })
+    }
+
+    /// Commit a row that [`Ledger::check_row`] passed, as the result of `job_id`.
+    pub fn commit_row(
+        &self,
+        store: &mut Store,
+        job_id: i64,
+        row: &ExportRow,
+    ) -> Result<Settlement, RunError> {
+        let mut record = serde_json::to_value(row)?;
+        record["imported"] = json!(true);
+        let rec = ResultRecord {
+            verdict: row.verdict.clone(),
+            outcome: row.outcome.clone(),
+            contact_time: row.contact_time,
+            decision_time: row.decision_time,
+            free_speed: row.free_speed,
+            threshold_speed: row.threshold_speed,
+            attachment: row
+                .attachment_1
+                .clone()
+                .zip(row.attachment_2.clone())
+                .map(|(a, b)| [a, b]),
+            // (check_row refused a negative count.)
+            collision_steps: row.collision_steps.max(0) as u64,
+            breakup_reason: row.breakup_reason.clone(),
+            // The time the collision took where it ran (0: not recorded).
+            wall_s: row
+                .wall_s
+                .filter(|w| w.is_finite() && *w > 0.0)
+                .unwrap_or(0.0),
+            classifier: row.classifier.clone(),
+            record: record.to_string(),
+        };
+        Ok(if store.record_result(job_id, &self.version, &rec)? {
+            Settlement::New
+        } else {
+            Settlement::Already
+        })
+    }
+}

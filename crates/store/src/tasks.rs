@@ -1,0 +1,77 @@
+//! The work a run needs: the preps a sweep's jobs start from, and its pending jobs.
+
+use rusqlite::params;
+
+use crate::database::Store;
+use crate::encoding::seed_from_sql;
+use crate::error::Result;
+use crate::lifecycle::JobState;
+
+/// A prep a run needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrepTask {
+    pub id: i64,
+    pub seed: u64,
+    pub config: String,
+    pub state: JobState,
+    pub verdict: Option<String>,
+    pub attempts: u32,
+}
+
+/// A collision job a run needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JobTask {
+    pub id: i64,
+    pub point_id: i64,
+    pub replicate: u32,
+    pub seed: u64,
+    pub prep_id: i64,
+    pub attempts: u32,
+    pub config: String,
+}
+
+impl Store {
+    /// The preps the sweep's jobs of `version` start from, in id order.
+    pub fn preps_of(&self, sweep_id: i64, version: &str) -> Result<Vec<PrepTask>> {
+        let mut q = self.conn.prepare(
+            "SELECT id, seed, config, state, verdict, attempts FROM preps WHERE id IN (
+                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2)
+             ORDER BY id",
+        )?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            let state: String = r.get(3)?;
+            Ok(PrepTask {
+                id: r.get(0)?,
+                seed: seed_from_sql(r.get(1)?),
+                config: r.get(2)?,
+                state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                verdict: r.get(4)?,
+                attempts: r.get(5)?,
+            })
+        })?;
+        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+    }
+
+    /// The sweep's pending jobs of `version`, in (point, replicate) order.
+    pub fn pending_jobs(&self, sweep_id: i64, version: &str) -> Result<Vec<JobTask>> {
+        let mut q = self.conn.prepare(
+            "SELECT j.id, j.point_id, j.replicate, j.seed, j.prep_id, j.attempts, p.params
+             FROM jobs j JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'pending'
+             ORDER BY p.idx, j.replicate",
+        )?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            Ok(JobTask {
+                id: r.get(0)?,
+                point_id: r.get(1)?,
+                replicate: r.get(2)?,
+                seed: seed_from_sql(r.get(3)?),
+                prep_id: r.get(4)?,
+                attempts: r.get(5)?,
+                config: r.get(6)?,
+            })
+        })?;
+        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+    }
+}

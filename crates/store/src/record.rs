@@ -110,7 +110,6 @@ impl Store {
     }
 
     /// A prep whose verdict is not `ok` decides its pending jobs of `sweep_id` without a
-
     /// collision: each gets a result carrying the verdict, in one transaction. Returns how many.
     pub fn settle_jobs_of_prep(
         &mut self,

@@ -149,7 +149,7 @@ fn a_job_goes_pending_running_done_exactly_once() {
     // A retry gives it two attempts anew; the old records still count for nothing.
     assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
     for old in [1, 2] {
-        assert_eq!(store.fail_job(id2, old, "old", 2).unwrap(), None);
+        assert_eq!(store.fail_job(id2, old, "old", Some(2)).unwrap(), None);
     }
     assert_eq!(
         store.fail_job(id2, 3, "crash 3", Some(2)).unwrap(),

@@ -66,11 +66,11 @@ pub fn fmt_duration(s: f64) -> String {
 }
 
 /// Speed and time left, as `status` and the running sweep's bar both print them (one
-/// estimator: `cellsweep_store::throughput`). None before any job has finished.
+/// estimator: `cellsweep_stats::throughput`). None before any job has finished.
 pub fn speed_line(jobs_per_s: Option<f64>, remaining: f64) -> Option<String> {
     let rate = jobs_per_s?;
     Some(
-        match cellsweep_store::throughput::eta_s(remaining, Some(rate)) {
+        match cellsweep_stats::throughput::eta_s(remaining, Some(rate)) {
             Some(eta) if remaining > 0.0 => {
                 format!("{:.2} jobs/min · ETA {}", rate * 60.0, fmt_duration(eta))
             }

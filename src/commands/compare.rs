@@ -5,7 +5,8 @@ use std::path::Path;
 
 use anyhow::bail;
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{compare, Comparison, End, EndCounts, Label, PointComparison, Store, Test};
+use cellsweep_stats::{compare, Comparison, End, EndCounts, Label, PointComparison, Test};
+use cellsweep_store::Store;
 use serde_json::json;
 
 use crate::cli::{CompareArgs, Format};
@@ -15,7 +16,7 @@ struct Side {
     name: String,
     version: String,
     db: String,
-    replicates: Vec<cellsweep_store::Replicate>,
+    replicates: Vec<cellsweep_stats::Replicate>,
 }
 
 fn load(db: &Path, name: &str, version: Option<&str>) -> anyhow::Result<Side> {

@@ -6,9 +6,10 @@ use anyhow::{bail, Context};
 use cellsweep_report::{Provenance, Results};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::adaptive::{assess, kinds, PointEnds};
+use cellsweep_stats::adaptive::{assess, kinds, PointEnds};
+use cellsweep_stats::{Counts, End, Label, Scales};
 use cellsweep_store::export::ExportRow;
-use cellsweep_store::{Counts, End, Label, Scales, Store};
+use cellsweep_store::Store;
 
 use crate::cli::CountsSource;
 

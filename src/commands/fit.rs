@@ -1,6 +1,6 @@
 //! `cellsweep fit`: the beta_crit line with bootstrap intervals, beside the paper's.
 
-use cellsweep_store::{fit_line, Column};
+use cellsweep_stats::{fit_line, Column};
 use serde_json::json;
 
 use super::counts;

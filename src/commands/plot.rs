@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use cellsweep_plot::Figure;
 use cellsweep_report::{figures, Results};
-use cellsweep_store::fit_line;
+use cellsweep_stats::fit_line;
 
 use super::counts;
 use crate::cli::PlotArgs;

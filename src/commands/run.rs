@@ -7,7 +7,8 @@ use cellsweep_scheduler::{
     plan, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
 };
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{Standing, Store};
+use cellsweep_stats::Standing;
+use cellsweep_store::Store;
 
 use crate::cli::RunArgs;
 use crate::progress::SweepBar;

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_store::{wilson, Assessment, Counts, Label};
+use cellsweep_stats::{wilson, Assessment, Counts, Label};
 use serde_json::json;
 
 use super::counts;

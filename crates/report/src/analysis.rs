@@ -2,7 +2,7 @@
 //! bootstrap interval, the line over all spacings at sigma = 5 and at sigma = 0, and the
 //! measured shift of the line between the two.
 
-use cellsweep_store::{fit_line, measure_shift, Column, Fit, NoFit, Shift};
+use cellsweep_stats::{fit_line, measure_shift, Column, Fit, NoFit, Shift};
 
 use crate::collection::{Collection, DiagramKey};
 use crate::Results;

@@ -2,7 +2,7 @@
 //! free speed against beta (several free-motion cells per point), and the spindle check (one
 //! fiber).
 
-use cellsweep_store::{Counts, Scales};
+use cellsweep_stats::{Counts, Scales};
 
 use crate::Results;
 

@@ -3,9 +3,8 @@
 
 use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
 use cellsweep_plot::{Color, Figure};
-use cellsweep_store::{
-    fit::PAPER_A, fit::PAPER_B, wilson, Assessment, Counts, Fit, Label, Scales, Standing,
-};
+use cellsweep_stats::fit::{PAPER_A, PAPER_B};
+use cellsweep_stats::{wilson, Assessment, Counts, Fit, Label, Scales, Standing};
 
 use crate::Results;
 

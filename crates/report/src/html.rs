@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_store::{Column, Fit, NoFit, Standing};
+use cellsweep_stats::{Column, Fit, NoFit, Standing};
 
 use crate::analysis::{Analysis, RESAMPLES};
 use crate::claims::{evaluate, Claim, Verdict};
@@ -310,8 +310,8 @@ fn columns_section(h: &mut String, an: &Analysis<'_>) {
         h.push_str("</tr>\n<tr><td>paper's line</td>");
         for c in cols {
             let b = scales.beta_on_line(
-                cellsweep_store::fit::PAPER_A,
-                cellsweep_store::fit::PAPER_B,
+                cellsweep_stats::fit::PAPER_A,
+                cellsweep_stats::fit::PAPER_B,
                 c.alpha,
                 c.L,
                 c.sigma,

@@ -14,7 +14,7 @@ pub mod collection;
 pub mod figures;
 pub mod html;
 
-use cellsweep_store::{AdaptiveRule, Assessment, Counts, Scales};
+use cellsweep_stats::{AdaptiveRule, Assessment, Counts, Scales};
 
 pub use collection::{Collection, DiagramKey};
 pub use html::render;

@@ -13,7 +13,8 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use std::time::Duration;
 
 use cellsweep_solver::{Outcome, Verdict};
-use cellsweep_store::{throughput, JobState, JobTask, OutcomeCounts, PrepTask, Store};
+use cellsweep_stats::throughput;
+use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, Store};
 use tokio::sync::mpsc;
 
 use crate::error::RunError;
@@ -47,7 +48,7 @@ pub struct Progress {
     pub retries: u64,
     pub running: usize,
     /// Jobs per second over the latest window of this run's activity, by the estimator
-    /// `status` uses (`cellsweep_store::throughput`).
+    /// `status` uses (`cellsweep_stats::throughput`).
     pub jobs_per_s: Option<f64>,
 }
 

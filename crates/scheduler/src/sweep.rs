@@ -33,7 +33,7 @@
 use std::path::Path;
 
 use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
-use cellsweep_store::AdaptiveRule;
+use cellsweep_stats::AdaptiveRule;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{SweepError, ValueError};

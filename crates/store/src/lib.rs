@@ -6,44 +6,32 @@
 //! transaction together with its job's state change, so nothing is lost or counted twice.
 //! The schema is in [`schema::DDL`].
 
-pub mod adaptive;
 mod atomic;
-pub mod binomial;
-pub mod compare;
 mod database;
 pub mod digest;
 mod encoding;
 pub mod error;
 pub mod export;
-pub mod fit;
 pub mod identity;
 pub mod lifecycle;
-pub mod phase;
 pub mod record;
 mod register;
+mod replicates;
 pub mod reset;
 pub mod schema;
-pub mod shift;
 pub mod slurm_arrays;
 pub mod status;
 mod tasks;
-pub mod throughput;
 mod transitions;
 
-pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
-pub use binomial::clopper_pearson;
-pub use compare::{compare, Comparison, End, EndCounts, PointComparison, Replicate, Test};
 pub use database::Store;
 pub use encoding::{bytes_to_f64s, f64s_to_bytes, now};
 pub use error::{Result, StoreError};
-pub use fit::{fit_line, Column, Fit, NoFit, Scales};
 pub use identity::{JobIdentity, PrepIdentity};
 pub use lifecycle::JobState;
-pub use phase::{wilson, Counts, Fraction, Label};
 pub use record::{PrepRecord, ResultRecord};
 pub use register::{NewJob, NewPoint, NewPrep, NewSweep, Registration};
 pub use reset::{PointRef, Reset};
-pub use shift::{measure_shift, Shift};
 pub use slurm_arrays::SlurmArray;
 pub use status::{Failure, MeasuredCost, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
 pub use tasks::{JobTask, PrepTask};

@@ -1,12 +1,12 @@
 //! Read-side queries: progress of sweeps and outcome counts per point.
 
-use crate::throughput::{self, WINDOW_S};
+use cellsweep_stats::throughput::{self, WINDOW_S};
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
-use crate::compare::End;
 use crate::database::Store;
 use crate::error::Result;
+use cellsweep_stats::End;
 
 /// Jobs of one sweep and solver version, by state.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

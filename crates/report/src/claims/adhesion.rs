@@ -1,6 +1,6 @@
 //! What removing cell-cell adhesion does (sigma = 0: Fig. 5, Section 3.2, Appendix C).
 
-use cellsweep_store::{Counts, Label};
+use cellsweep_stats::{Counts, Label};
 
 use super::outcomes::point_list;
 use super::{matched, no_data, pct, sums, with_label, Claim, Verdict};

@@ -12,7 +12,7 @@ mod line;
 mod outcomes;
 mod spacing;
 
-use cellsweep_store::{wilson, Column, Counts, Label};
+use cellsweep_stats::{wilson, Column, Counts, Label};
 
 use crate::analysis::Analysis;
 use crate::collection::Shown;
@@ -182,7 +182,7 @@ pub fn evaluate(an: &Analysis<'_>) -> Vec<Claim> {
 mod tests {
     use super::*;
     use crate::{Provenance, Results};
-    use cellsweep_store::Scales;
+    use cellsweep_stats::Scales;
 
     /// A synthetic (L, sigma) diagram of 96 collisions per point: walk-past at a share
     /// `walk(alpha, beta)` of them, training the rest, on the paper's grid.

@@ -1,6 +1,6 @@
 //! What collisions give: on one fiber, and on two at L = 90, sigma = 5 (Fig. 2 and 3).
 
-use cellsweep_store::{Counts, Label};
+use cellsweep_stats::{Counts, Label};
 
 use super::{graded, no_data, pct, sums, with_label, Claim, Verdict};
 use crate::analysis::Analysis;

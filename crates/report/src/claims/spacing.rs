@@ -1,6 +1,6 @@
 //! How the fiber spacing moves the outcomes (Fig. 4 and A1).
 
-use cellsweep_store::Label;
+use cellsweep_stats::Label;
 
 use super::{
     collided, graded, matched, no_data, paired_stars, pct, star_rank, star_text, sums, with_label,

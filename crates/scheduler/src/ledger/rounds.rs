@@ -3,8 +3,9 @@
 
 use std::collections::HashMap;
 
-use cellsweep_store::adaptive::kinds;
-use cellsweep_store::{assess, Assessment, PointEnds, Store};
+use cellsweep_stats::adaptive::kinds;
+use cellsweep_stats::{assess, Assessment, PointEnds};
+use cellsweep_store::Store;
 
 use super::Ledger;
 use crate::error::RunError;

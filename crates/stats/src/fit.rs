@@ -9,7 +9,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-use crate::phase::Counts;
+use crate::counts::Counts;
 
 /// The paper's fit: beta_crit = 0.6 alpha~ / L~ - 12.
 pub const PAPER_A: f64 = 0.6;

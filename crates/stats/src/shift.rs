@@ -12,8 +12,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::counts::Counts;
 use crate::fit::{columns, least_squares, percentile_95, resample_diffs, Column, Scales};
-use crate::phase::Counts;
 
 /// The paper's shift (its appendix): 0.0134 in alpha from sigma = 5 to sigma = 0.
 pub const PAPER_SHIFT: f64 = 0.0134;

@@ -2,8 +2,8 @@
 //! coverage sums, round sizes, and a Monte Carlo test on synthetic points (no solver) that the
 //! share of points settling on a wrong label or sign stays below the stated error.
 
-use cellsweep_store::adaptive::{assess_with, kinds, Intervals};
-use cellsweep_store::{clopper_pearson, AdaptiveRule, End, Label, PointEnds, Standing};
+use cellsweep_stats::adaptive::{assess_with, kinds, Intervals};
+use cellsweep_stats::{clopper_pearson, AdaptiveRule, End, Label, PointEnds, Standing};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

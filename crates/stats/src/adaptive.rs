@@ -37,8 +37,8 @@ use std::collections::HashMap;
 use serde::{Deserialize, Serialize};
 
 use crate::binomial::clopper_pearson;
-use crate::compare::End;
-use crate::phase::{Counts, Label};
+use crate::counts::{Counts, Label};
+use crate::end::End;
 
 /// Dominance threshold, coexistence band and share (SPEC section 6).
 const DOMINANT: f64 = 0.55;

@@ -1,6 +1,6 @@
 //! Labels at their edges, Wilson intervals, and the beta_crit fit on synthetic counts.
 
-use cellsweep_store::{fit_line, wilson, Counts, Label, Scales};
+use cellsweep_stats::{fit_line, wilson, Counts, Label, Scales};
 
 fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
     Counts {

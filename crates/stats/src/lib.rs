@@ -1,0 +1,35 @@
+//! # cellsweep-stats
+//!
+//! The statistics of cellsweep's phase diagrams, apart from where the data is kept: this crate
+//! knows nothing of SQLite or files. Data comes in as finished replicates ([`Replicate`], each
+//! with its [`End`]) or as counts per point ([`Counts`]) and goes out as:
+//! - a point's [`Label`] (SPEC section 6) with Wilson and Clopper-Pearson intervals
+//!   ([`wilson`], [`clopper_pearson`]);
+//! - where each point stands under an adaptive rule ([`assess`] on [`PointEnds`] gives an
+//!   [`Assessment`]: open, settled or at its budget, and the next round);
+//! - the transition line beta_crit = a alpha~/L~ + b over the diagrams' columns ([`fit_line`]
+//!   gives a [`Fit`] with bootstrap intervals), and the shift between two sigmas
+//!   ([`measure_shift`]);
+//! - two result sets compared point by point ([`compare`] gives a [`Comparison`]);
+//! - a run's throughput and ETA ([`throughput`]).
+//!
+//! The path: `cellsweep_store` reads replicates and counts out of a store, `cellsweep_report`
+//! loads them from a store or an export file into its `Results`, and this crate turns them into
+//! labels, standings, lines and tests.
+
+pub mod adaptive;
+pub mod binomial;
+pub mod compare;
+pub mod counts;
+pub mod end;
+pub mod fit;
+pub mod shift;
+pub mod throughput;
+
+pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
+pub use binomial::clopper_pearson;
+pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
+pub use counts::{wilson, Counts, Fraction, Label};
+pub use end::{End, Replicate};
+pub use fit::{fit_line, Column, Fit, NoFit, Scales};
+pub use shift::{measure_shift, Shift};

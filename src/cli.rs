@@ -239,6 +239,18 @@ pub struct CountsSource {
     pub data: Option<std::path::PathBuf>,
 }
 
+impl CountsSource {
+    /// The results these flags name: an export file, a counts file, or a store.
+    pub fn load(&self) -> Result<cellsweep_report::Results, cellsweep_report::load::LoadError> {
+        use cellsweep_report::load;
+        match (&self.data, &self.counts) {
+            (Some(path), _) => load::from_export(path),
+            (None, Some(path)) => load::from_counts_csv(path),
+            (None, None) => load::from_store(&self.db, self.sweep.as_deref()),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
     Text,

@@ -1,11 +1,12 @@
 //! `cellsweep export`: one CSV row per finished replicate (format in the first line).
 
 use anyhow::{bail, Context};
+use cellsweep_scheduler::export_file::read_export;
 use cellsweep_scheduler::wire::PrepPayload;
 use cellsweep_scheduler::{plan_targets, Ledger, RowCheck, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_store::export::{ExportRow, EXPORT_FORMAT, READ_FORMATS};
+use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
 use cellsweep_store::JobState;
 use cellsweep_store::Store;
 use rayon::prelude::*;
@@ -41,52 +42,6 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
         out.display()
     );
     Ok(())
-}
-
-/// An export file read back: its sweep's definition (line 2, checked: name and every point's
-/// model) and its rows. Each problem names the file and the line or row.
-pub fn read_export(path: &std::path::Path) -> anyhow::Result<(Sweep, Vec<ExportRow>)> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
-    let mut lines = text.lines();
-    let head = lines.next().unwrap_or("");
-    let format = head
-        .strip_prefix("# cellsweep export format ")
-        .and_then(|rest| rest.split(';').next())
-        .and_then(|v| v.parse::<u32>().ok());
-    match format {
-        Some(f) if READ_FORMATS.contains(&f) => {}
-        Some(f) => bail!(
-            "{file}: line 1: export format {f}, and this build reads formats {READ_FORMATS:?} \
-             (a newer cellsweep wrote it?)"
-        ),
-        None => bail!(
-            "{file}: line 1: not a cellsweep export (expected \"# cellsweep export format \
-             {EXPORT_FORMAT}; ...\")"
-        ),
-    }
-    let spec = lines
-        .next()
-        .and_then(|l| l.strip_prefix("# spec "))
-        .with_context(|| format!("{file}: line 2: missing the sweep's definition (# spec ...)"))?;
-    let sweep: Sweep = serde_json::from_str(spec)
-        .map_err(|e| anyhow::anyhow!("{file}: line 2: malformed sweep definition: {e}"))?;
-    cellsweep_scheduler::sweep::check_name(&sweep.name)
-        .map_err(|e| anyhow::anyhow!("{file}: line 2: name: {e}"))?;
-    for p in sweep.points() {
-        sweep
-            .protocol
-            .validate(&p)
-            .map_err(|e| anyhow::anyhow!("{file}: line 2: sweep definition: {e}"))?;
-    }
-    let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(text.as_bytes());
-    let mut rows: Vec<ExportRow> = Vec::new();
-    for (i, r) in reader.deserialize().enumerate() {
-        rows.push(r.map_err(|e| anyhow::anyhow!("{file}: row {}: {e}", i + 1))?);
-    }
-    Ok((sweep, rows))
 }
 
 /// `cellsweep import`: register the file's sweep, compute the preps its rows need, check every

@@ -3,7 +3,6 @@
 use cellsweep_stats::{fit_line, Column};
 use serde_json::json;
 
-use super::counts;
 use crate::cli::{FitArgs, FitFormat};
 
 fn column_line(c: &Column) -> String {
@@ -23,7 +22,7 @@ fn column_line(c: &Column) -> String {
 }
 
 pub fn run(args: FitArgs) -> anyhow::Result<i32> {
-    let loaded = counts::load(&args.source)?;
+    let loaded = args.source.load()?;
     match fit_line(
         &loaded.counts,
         &loaded.scales,

@@ -2,7 +2,6 @@
 
 mod bench;
 mod compare;
-mod counts;
 mod dry_run;
 mod export;
 mod fit;

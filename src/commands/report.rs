@@ -3,7 +3,6 @@
 use anyhow::{bail, Context};
 use cellsweep_store::Store;
 
-use super::counts;
 use crate::cli::ReportArgs;
 
 pub fn run(args: ReportArgs) -> anyhow::Result<()> {
@@ -15,8 +14,8 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
             }
             names
                 .iter()
-                .map(|n| counts::from_store(db, Some(n)))
-                .collect::<anyhow::Result<Vec<_>>>()?
+                .map(|n| cellsweep_report::load::from_store(db, Some(n)))
+                .collect::<Result<Vec<_>, _>>()?
         }
         (None, Some(dir)) => {
             let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
@@ -30,8 +29,8 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
             }
             files
                 .iter()
-                .map(|f| counts::from_export(f))
-                .collect::<anyhow::Result<Vec<_>>>()?
+                .map(|f| cellsweep_report::load::from_export(f))
+                .collect::<Result<Vec<_>, _>>()?
         }
         (None, None) => bail!("report needs --db PATH or --data DIR"),
     };

@@ -10,6 +10,8 @@ use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_stats::Standing;
 use cellsweep_store::Store;
 
+use cellsweep_report::text;
+
 use crate::cli::RunArgs;
 use crate::progress::SweepBar;
 
@@ -182,13 +184,17 @@ fn summarize(
     sweep: &Sweep,
     interrupted: bool,
 ) -> anyhow::Result<()> {
-    super::status::print_point_counts(store, sweep_id, &sweep.name)?;
-    let loaded = super::counts::from_store(&args.db.db, Some(&sweep.name))?;
+    let points = store.point_counts(sweep_id, SOLVER_VERSION)?;
+    print!(
+        "{}",
+        text::point_counts_text(&points, &sweep.name, SOLVER_VERSION)
+    );
+    let loaded = cellsweep_report::load::from_store(&args.db.db, Some(&sweep.name))?;
     println!();
     for (l, sigma) in cellsweep_report::figures::diagrams(&loaded.counts) {
-        println!("{}", super::table::grid_text(&loaded.counts, l, sigma));
+        println!("{}", text::grid_text(&loaded.counts, l, sigma));
     }
-    println!("{}", super::table::LEGEND);
+    println!("{}", text::LEGEND);
     let unfinished = interrupted
         || loaded
             .standings
@@ -201,7 +207,7 @@ fn summarize(
             dir.display()
         );
     } else if let Some(dir) = &args.plot {
-        for f in super::plot::write_plots(&loaded, dir)? {
+        for f in cellsweep_report::plot_files::write_plots(&loaded, dir)? {
             println!("wrote {}", f.display());
         }
     }

@@ -1,93 +1,16 @@
 //! `cellsweep table`: each (L, sigma) phase diagram as a grid, and every point's counts,
 //! fractions with 95% Wilson intervals, and label; as text, CSV or JSON.
 
-use std::fmt::Write as _;
-
 use cellsweep_stats::{wilson, Assessment, Counts, Label};
 use serde_json::json;
 
-use super::counts;
 use crate::cli::{Format, TableArgs};
 
 pub use cellsweep_report::figures::diagrams;
-
-/// Sorted distinct values.
-pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
-    let mut v: Vec<f64> = values.collect();
-    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
-    v.dedup();
-    v
-}
-
-const FRACTIONS: [&str; 5] = [
-    "train",
-    "walk_past",
-    "reversal",
-    "undetermined",
-    "collision_breakup",
-];
-
-/// Each collision end's count, in the order of [`FRACTIONS`].
-fn fractions(c: &Counts) -> [(u64, &'static str); 5] {
-    [
-        (c.n_train, "train"),
-        (c.n_walk, "walk_past"),
-        (c.n_reversal, "reversal"),
-        (c.n_undetermined, "undetermined"),
-        (c.n_collision_breakup, "collision_breakup"),
-    ]
-}
-
-/// A fraction with its interval as a table cell; a point with no replicate has none.
-fn fraction_cell(k: u64, n: u64) -> String {
-    if n == 0 {
-        return format!("{k:>3} -");
-    }
-    let f = wilson(k, n);
-    format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
-}
-
-/// The grid of one diagram: alpha across, beta down (largest beta on top, as in the paper).
-pub fn grid_text(counts: &[Counts], spacing: u32, sigma: f64) -> String {
-    let pts: Vec<&Counts> = counts
-        .iter()
-        .filter(|c| c.L == spacing && c.sigma == sigma)
-        .collect();
-    let alphas = axis(pts.iter().map(|c| c.alpha));
-    let betas = axis(pts.iter().map(|c| c.beta));
-    let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "L = {spacing}, sigma = {sigma} (up to {n} replicates per point)"
-    );
-    let _ = write!(s, "{:>10} |", "beta \\ alpha");
-    for a in &alphas {
-        let _ = write!(s, " {a:>5}");
-    }
-    let _ = writeln!(s);
-    let _ = writeln!(s, "{}", "-".repeat(13 + 6 * alphas.len()));
-    for b in betas.iter().rev() {
-        let _ = write!(s, "{b:>12} |");
-        for a in &alphas {
-            let sym = pts
-                .iter()
-                .find(|c| c.alpha == *a && c.beta == *b)
-                .and_then(|c| c.label())
-                .map_or("", Label::symbol);
-            let _ = write!(s, " {sym:>5}");
-        }
-        let _ = writeln!(s);
-    }
-    s
-}
-
-pub const LEGEND: &str =
-    "legend: * walk_past  x train  + reversal  *x coexist (walk-past and training within 10%)  \
-                          . unstable  <> breakup  ? undetermined  ~ mixed";
+use cellsweep_report::text::{fraction_cell, fractions, grid_text, FRACTIONS, LEGEND};
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
-    let loaded = counts::load(&args.source)?;
+    let loaded = args.source.load()?;
     let keep = |c: &Counts| {
         args.spacing.is_none_or(|l| c.L == l) && args.sigma.is_none_or(|s| c.sigma == s)
     };

@@ -3,8 +3,8 @@
 //! The paper's results read off a sweep's counts: the figures of `cellsweep plot`, the paper's
 //! claims checked one by one, and the one self-contained HTML page of `cellsweep report`.
 //!
-//! Main types: [`Results`] (one sweep's counts, standings and [`Provenance`], from a store or an
-//! export), [`Collection`] (results sorted into the paper's six diagrams, the speed figure and
+//! Main types: [`Results`] (one sweep's counts, standings and [`Provenance`], loaded by
+//! [`load`] from a store, an export or a counts file), [`Collection`] (results sorted into the paper's six diagrams, the speed figure and
 //! the spindle check), [`claims::Claim`] with its [`claims::Verdict`], and [`Report`], which
 //! [`Report::to_html`] writes. [`figures`] turns counts into the drawings of `cellsweep-plot`.
 
@@ -13,6 +13,9 @@ pub mod claims;
 pub mod collection;
 pub mod figures;
 pub mod html;
+pub mod load;
+pub mod plot_files;
+pub mod text;
 
 use cellsweep_stats::{AdaptiveRule, Assessment, Counts, Scales};
 

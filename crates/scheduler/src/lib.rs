@@ -9,6 +9,7 @@
 
 pub mod coordinator;
 pub mod error;
+pub mod export_file;
 pub mod grid;
 pub mod ledger;
 pub mod lock;

@@ -183,6 +183,22 @@ pub struct Assessment {
     pub next_round: Option<u32>,
 }
 
+fn grid_key(alpha: f64, beta: f64, l: u32, sigma: f64) -> (u64, u64, u32, u64) {
+    (alpha.to_bits(), beta.to_bits(), l, sigma.to_bits())
+}
+
+/// Finds a grid point by its axes (exactly, bit for bit, as the grid wrote them).
+#[derive(Debug, Clone, Default)]
+pub struct GridIndex(HashMap<(u64, u64, u32, u64), usize>);
+
+impl GridIndex {
+    /// The index of the point (alpha, beta, L, sigma) in its grid.
+    #[allow(non_snake_case)]
+    pub fn of(&self, alpha: f64, beta: f64, L: u32, sigma: f64) -> Option<usize> {
+        self.0.get(&grid_key(alpha, beta, L, sigma)).copied()
+    }
+}
+
 /// One point's finished replicates, by replicate index (None: not finished).
 #[derive(Debug, Clone, PartialEq)]
 #[allow(non_snake_case)]
@@ -205,6 +221,37 @@ impl PointEnds {
             sigma,
             ends: Vec::new(),
         }
+    }
+
+    /// Every point of a grid, in its order, with no replicate finished yet, and the index that
+    /// finds a point by its axes.
+    pub fn grid(
+        points: impl IntoIterator<Item = (f64, f64, u32, f64)>,
+    ) -> (Vec<PointEnds>, GridIndex) {
+        let ends: Vec<PointEnds> = points
+            .into_iter()
+            .map(|(a, b, l, s)| PointEnds::new(a, b, l, s))
+            .collect();
+        let index = GridIndex(
+            ends.iter()
+                .enumerate()
+                .map(|(i, p)| (grid_key(p.alpha, p.beta, p.L, p.sigma), i))
+                .collect(),
+        );
+        (ends, index)
+    }
+
+    /// Replicate `replicate` ended in `end`; false (and nothing changed) if it already had.
+    pub fn record(&mut self, replicate: u32, end: End) -> bool {
+        let k = replicate as usize;
+        if self.ends.len() <= k {
+            self.ends.resize(k + 1, None);
+        }
+        if self.ends[k].is_some() {
+            return false;
+        }
+        self.ends[k] = Some(end);
+        true
     }
 
     /// The number of replicates finished in index order, without a gap.

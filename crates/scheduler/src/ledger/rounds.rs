@@ -1,8 +1,6 @@
 //! An adaptive sweep's rounds: where each point stands, and the next replicates of the open
 //! points whose round is complete.
 
-use std::collections::HashMap;
-
 use cellsweep_stats::adaptive::kinds;
 use cellsweep_stats::{assess, Assessment, PointEnds};
 use cellsweep_store::Store;
@@ -14,28 +12,19 @@ use crate::plan::plan_targets;
 impl Ledger {
     /// Every point's finished replicates by index, in grid order.
     pub fn point_ends(&self, store: &Store) -> Result<Vec<PointEnds>, RunError> {
-        let points = self.sweep.points();
-        let key = |a: f64, b: f64, l: u32, s: f64| (a.to_bits(), b.to_bits(), l, s.to_bits());
-        let index: HashMap<_, usize> = points
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (key(p.alpha, p.beta, p.L, p.sigma), i))
-            .collect();
-        let mut out: Vec<PointEnds> = points
-            .iter()
-            .map(|p| PointEnds::new(p.alpha, p.beta, p.L, p.sigma))
-            .collect();
+        let (mut ends, index) = PointEnds::grid(
+            self.sweep
+                .points()
+                .iter()
+                .map(|p| (p.alpha, p.beta, p.L, p.sigma)),
+        );
         for r in store.replicates(self.sweep_id, &self.version)? {
-            if let Some(&i) = index.get(&key(r.alpha, r.beta, r.L, r.sigma)) {
-                let ends = &mut out[i].ends;
-                let k = r.replicate as usize;
-                if ends.len() <= k {
-                    ends.resize(k + 1, None);
-                }
-                ends[k] = Some(r.end);
+            // (One result per job, and a job per point and replicate: never twice.)
+            if let Some(i) = index.of(r.alpha, r.beta, r.L, r.sigma) {
+                ends[i].record(r.replicate, r.end);
             }
         }
-        Ok(out)
+        Ok(ends)
     }
 
     /// Where every point stands under the sweep's adaptive rule (None for a fixed sweep).

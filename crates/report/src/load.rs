@@ -1,45 +1,47 @@
-//! Loading outcome counts from a store or from a counts CSV file.
+//! [`Results`] loaded from their three sources, for every reader of them (`table`, `fit`,
+//! `plot`, `report`, `run`'s summary): a store, an export file, or a counts CSV file. A store
+//! and an export of it give the very same results.
 
 use std::path::Path;
 
-use anyhow::{bail, Context};
-use cellsweep_report::{Provenance, Results};
+use cellsweep_scheduler::export_file::{read_export, ExportFileError};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_stats::adaptive::{assess, kinds, PointEnds};
 use cellsweep_stats::{Counts, End, Label, Scales};
 use cellsweep_store::export::ExportRow;
-use cellsweep_store::Store;
+use cellsweep_store::{Store, StoreError};
 
-use crate::cli::CountsSource;
+use crate::{Provenance, Results};
 
-/// Counts of every point, with their source's provenance where it has one.
-pub type Loaded = Results;
-
-pub fn load(src: &CountsSource) -> anyhow::Result<Loaded> {
-    if let Some(path) = &src.data {
-        return from_export(path);
-    }
-    match &src.counts {
-        Some(path) => Ok(Loaded {
-            name: path.display().to_string(),
-            counts: read_csv(path)?,
-            scales: Scales::default(),
-            standings: None,
-            prep_speeds: None,
-            provenance: None,
-        }),
-        None => from_store(&src.db, src.sweep.as_deref()),
-    }
+/// Why results could not be loaded: one line naming the source and the problem.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    #[error(transparent)]
+    Export(#[from] ExportFileError),
+    #[error("{0}")]
+    Invalid(String),
 }
 
-pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
+macro_rules! invalid {
+    ($($t:tt)*) => { return Err(LoadError::Invalid(format!($($t)*))) };
+}
+
+/// The results of sweep `sweep` (or the store's only one) in the store at `db`, read only.
+pub fn from_store(db: &Path, sweep: Option<&str>) -> Result<Results, LoadError> {
     let store = Store::open_read(db)?;
     let name = store.choose_sweep(sweep)?;
     let id = store.sweep_id(&name)?;
-    let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?)
-        .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;
-    let defaults = serde_json::to_value(Params::default())?;
+    let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?).map_err(|e| {
+        LoadError::Invalid(format!(
+            "{}: sweep {name:?}: malformed definition: {e}",
+            db.display()
+        ))
+    })?;
+    let defaults = serde_json::to_value(Params::default())
+        .map_err(|e| LoadError::Invalid(format!("the default parameters: {e}")))?;
     // The store's finished replicates read exactly as an export of them would be.
     let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
     from_rows(&db.display().to_string(), &sweep, &rows)
@@ -47,28 +49,25 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> anyhow::Result<Loaded> {
 
 /// Counts of every point of an export file (`cellsweep export`), and, for an adaptive sweep,
 /// each point's standing under its rule, exactly as the store would give them.
-pub fn from_export(path: &Path) -> anyhow::Result<Loaded> {
-    let (sweep, rows) = super::export::read_export(path)?;
+pub fn from_export(path: &Path) -> Result<Results, LoadError> {
+    let (sweep, rows) = read_export(path)?;
     from_rows(&path.display().to_string(), &sweep, &rows)
 }
 
 /// Counts, standings, each prep's free speed and provenance of a sweep's finished rows (from
 /// an export file or a store, named `source` in every message).
-fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<Loaded> {
-    let mut ends: Vec<PointEnds> = sweep
-        .points()
-        .iter()
-        .map(|p| PointEnds::new(p.alpha, p.beta, p.L, p.sigma))
-        .collect();
+fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results, LoadError> {
+    let (mut ends, index) = PointEnds::grid(
+        sweep
+            .points()
+            .iter()
+            .map(|p| (p.alpha, p.beta, p.L, p.sigma)),
+    );
     // Each distinct prep's free speed (a point's replicates share their preps round-robin).
     let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];
     for r in rows {
-        let at = (r.alpha, r.beta, r.L, r.sigma);
-        let Some(i) = ends
-            .iter()
-            .position(|p| (p.alpha, p.beta, p.L, p.sigma) == at)
-        else {
-            bail!(
+        let Some(i) = index.of(r.alpha, r.beta, r.L, r.sigma) else {
+            invalid!(
                 "{}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
                 source,
                 r.alpha,
@@ -79,7 +78,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<
             );
         };
         let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
-            bail!(
+            invalid!(
                 "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
                  result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
                  other verdicts have none)",
@@ -91,20 +90,16 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<
                 r.outcome.as_deref().unwrap_or("")
             );
         };
-        let e = &mut ends[i].ends;
-        let k = r.replicate as usize;
-        if k >= sweep.replicates as usize {
-            bail!(
+        let k = r.replicate;
+        if k >= sweep.replicates {
+            invalid!(
                 "{}: replicate {k} is beyond the sweep's {} per point",
                 source,
                 sweep.replicates
             );
         }
-        if e.len() <= k {
-            e.resize(k + 1, None);
-        }
-        if e[k].replace(end).is_some() {
-            bail!(
+        if !ends[i].record(k, end) {
+            invalid!(
                 "{}: replicate {k} at alpha = {}, beta = {} appears twice",
                 source,
                 r.alpha,
@@ -133,7 +128,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> anyhow::Result<
     let standings = sweep
         .adaptive
         .map(|rule| assess(&ends, &rule, kinds(sweep.preps_per_point)));
-    Ok(Loaded {
+    Ok(Results {
         name: sweep.name.clone(),
         counts,
         scales: Scales {
@@ -190,17 +185,30 @@ fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Provenance {
     }
 }
 
+/// The counts of a counts CSV file (see [`read_csv`]): no standings, no provenance.
+pub fn from_counts_csv(path: &Path) -> Result<Results, LoadError> {
+    Ok(Results {
+        name: path.display().to_string(),
+        counts: read_csv(path)?,
+        scales: Scales::default(),
+        standings: None,
+        prep_speeds: None,
+        provenance: None,
+    })
+}
+
 /// Most replicates one point of a counts file may hold (a bound that keeps sums exact).
 const MAX_COUNT: u64 = 1_000_000_000;
 
 /// Parse a counts CSV (the `csv` crate: quoting, a UTF-8 byte-order mark): a header naming the
 /// columns (any order, extra columns ignored), lines starting with `#` skipped. Every value is
 /// checked: finite axes in range, whole counts below [`MAX_COUNT`], each point once.
-pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
+fn read_csv(path: &Path) -> Result<Vec<Counts>, LoadError> {
     let file = path.display();
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {file}"))?;
-    let text =
-        String::from_utf8(bytes).map_err(|e| anyhow::anyhow!("{file}: not UTF-8 text: {e}"))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| LoadError::Invalid(format!("cannot read {file}: {e}")))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| LoadError::Invalid(format!("{file}: not UTF-8 text: {e}")))?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
@@ -209,12 +217,12 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
         .from_reader(text.as_bytes());
     let cols: Vec<String> = reader
         .headers()
-        .map_err(|e| anyhow::anyhow!("{file}: line 1: {e}"))?
+        .map_err(|e| LoadError::Invalid(format!("{file}: line 1: {e}")))?
         .iter()
         .map(String::from)
         .collect();
     if cols.iter().all(|c| c.is_empty()) {
-        bail!("{file}: empty file");
+        invalid!("{file}: empty file");
     }
     let find = |name: &str| cols.iter().position(|c| c == name);
     let required = [
@@ -229,7 +237,11 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
     ];
     let mut idx = Vec::new();
     for r in required {
-        idx.push(find(r).with_context(|| format!("{file}: line 1: missing column {r:?}"))?);
+        idx.push(
+            find(r).ok_or_else(|| {
+                LoadError::Invalid(format!("{file}: line 1: missing column {r:?}"))
+            })?,
+        );
     }
     let (label_col, unstable_col, breakup_col, split_col, speed_col) = (
         find("label"),
@@ -240,52 +252,52 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
     );
     let mut out: Vec<Counts> = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
+        let record = record.map_err(|e| LoadError::Invalid(format!("{file}: {e}")))?;
         let n = record.position().map_or(0, |p| p.line());
         let cell = |c: usize| record.get(c).unwrap_or("");
-        let num = |c: usize, lo: f64, hi: f64| -> anyhow::Result<f64> {
+        let num = |c: usize, lo: f64, hi: f64| -> Result<f64, LoadError> {
             match cell(c).parse::<f64>() {
                 Ok(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
-                Ok(_) => bail!(
+                Ok(_) => invalid!(
                     "{file}: line {n}: {} = {:?} is outside [{lo}, {hi}]",
                     cols[c],
                     cell(c)
                 ),
-                Err(_) => bail!(
+                Err(_) => invalid!(
                     "{file}: line {n}: {} = {:?} is not a number",
                     cols[c],
                     cell(c)
                 ),
             }
         };
-        let count = |c: usize| -> anyhow::Result<u64> {
+        let count = |c: usize| -> Result<u64, LoadError> {
             match cell(c).parse::<u64>() {
                 Ok(k) if k <= MAX_COUNT => Ok(k),
-                Ok(_) => bail!(
+                Ok(_) => invalid!(
                     "{file}: line {n}: {} = {:?} is more than {MAX_COUNT}",
                     cols[c],
                     cell(c)
                 ),
-                Err(_) => bail!(
+                Err(_) => invalid!(
                     "{file}: line {n}: {} = {:?} is not a count",
                     cols[c],
                     cell(c)
                 ),
             }
         };
-        let opt_count = |c: Option<usize>| -> anyhow::Result<u64> {
+        let opt_count = |c: Option<usize>| -> Result<u64, LoadError> {
             c.filter(|&c| !cell(c).is_empty()).map_or(Ok(0), count)
         };
         let l = num(idx[2], 0.0, 4096.0)?;
         if l.fract() != 0.0 {
-            bail!("{file}: line {n}: L = {l} is not a whole number");
+            invalid!("{file}: line {n}: L = {l} is not a whole number");
         }
         let verdict = match label_col.map(cell).unwrap_or("") {
             "" => None,
             s => match Label::parse(s) {
                 Some(v @ (Label::Unstable | Label::Breakup)) => Some(v),
                 Some(_) => None, // outcome labels are recomputed from the counts
-                None => bail!("{file}: line {n}: unknown label {s:?}"),
+                None => invalid!("{file}: line {n}: unknown label {s:?}"),
             },
         };
         let c = Counts {
@@ -309,7 +321,7 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
             .iter()
             .any(|o| (o.alpha, o.beta, o.L, o.sigma) == (c.alpha, c.beta, c.L, c.sigma))
         {
-            bail!(
+            invalid!(
                 "{file}: line {n}: the point alpha = {}, beta = {}, L = {}, sigma = {} appears twice",
                 c.alpha, c.beta, c.L, c.sigma
             );
@@ -317,7 +329,7 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Vec<Counts>> {
         out.push(c);
     }
     if out.is_empty() {
-        bail!("{file}: no data rows");
+        invalid!("{file}: no data rows");
     }
     Ok(out)
 }

@@ -1,0 +1,57 @@
+//! The pictures of `cellsweep plot` (and `run --plot`) written as files: each diagram and the
+//! free-speed figure, as SVG and PNG.
+
+use std::path::{Path, PathBuf};
+
+use cellsweep_plot::{Figure, RenderError};
+use cellsweep_stats::fit_line;
+
+use crate::{figures, Results};
+
+/// A picture that could not be drawn or written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Render(#[from] RenderError),
+}
+
+impl WriteError {
+    fn io(path: &Path, source: std::io::Error) -> Self {
+        WriteError::Io {
+            path: path.display().to_string(),
+            source,
+        }
+    }
+}
+
+fn write(
+    fig: &Figure,
+    dir: &Path,
+    stem: &str,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), WriteError> {
+    let svg = dir.join(format!("{stem}.svg"));
+    std::fs::write(&svg, fig.to_svg()).map_err(|e| WriteError::io(&svg, e))?;
+    let png = dir.join(format!("{stem}.png"));
+    std::fs::write(&png, fig.to_png(2.0)?).map_err(|e| WriteError::io(&png, e))?;
+    written.extend([svg, png]);
+    Ok(())
+}
+
+/// Write every picture of `results` into `dir`; returns the files written.
+pub fn write_plots(results: &Results, dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
+    std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
+    let fitted = fit_line(&results.counts, &results.scales, 0, 1).ok();
+    let mut written = Vec::new();
+    for (l, sigma) in figures::diagrams(&results.counts) {
+        let fig = figures::diagram_of(results, (l, sigma), fitted.as_ref());
+        write(&fig, dir, &format!("phase-L{l}-sigma{sigma}"), &mut written)?;
+    }
+    write(&figures::speed_of(results), dir, "free-speed", &mut written)?;
+    Ok(written)
+}

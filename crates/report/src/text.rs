@@ -1,0 +1,132 @@
+//! Results as text for a terminal: a diagram's grid of labels with its legend, fractions
+//! with their intervals as table cells, and every point's outcome counts.
+
+use std::fmt::Write as _;
+
+use cellsweep_stats::{wilson, Counts, Label};
+use cellsweep_store::PointCounts;
+
+/// Sorted distinct values.
+pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    v.dedup();
+    v
+}
+
+pub const FRACTIONS: [&str; 5] = [
+    "train",
+    "walk_past",
+    "reversal",
+    "undetermined",
+    "collision_breakup",
+];
+
+/// Each collision end's count, in the order of [`FRACTIONS`].
+pub fn fractions(c: &Counts) -> [(u64, &'static str); 5] {
+    [
+        (c.n_train, "train"),
+        (c.n_walk, "walk_past"),
+        (c.n_reversal, "reversal"),
+        (c.n_undetermined, "undetermined"),
+        (c.n_collision_breakup, "collision_breakup"),
+    ]
+}
+
+/// A fraction with its interval as a table cell; a point with no replicate has none.
+pub fn fraction_cell(k: u64, n: u64) -> String {
+    if n == 0 {
+        return format!("{k:>3} -");
+    }
+    let f = wilson(k, n);
+    format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
+}
+
+/// The grid of one diagram: alpha across, beta down (largest beta on top, as in the paper).
+pub fn grid_text(counts: &[Counts], spacing: u32, sigma: f64) -> String {
+    let pts: Vec<&Counts> = counts
+        .iter()
+        .filter(|c| c.L == spacing && c.sigma == sigma)
+        .collect();
+    let alphas = axis(pts.iter().map(|c| c.alpha));
+    let betas = axis(pts.iter().map(|c| c.beta));
+    let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "L = {spacing}, sigma = {sigma} (up to {n} replicates per point)"
+    );
+    let _ = write!(s, "{:>10} |", "beta \\ alpha");
+    for a in &alphas {
+        let _ = write!(s, " {a:>5}");
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(s, "{}", "-".repeat(13 + 6 * alphas.len()));
+    for b in betas.iter().rev() {
+        let _ = write!(s, "{b:>12} |");
+        for a in &alphas {
+            let sym = pts
+                .iter()
+                .find(|c| c.alpha == *a && c.beta == *b)
+                .and_then(|c| c.label())
+                .map_or("", Label::symbol);
+            let _ = write!(s, " {sym:>5}");
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+pub const LEGEND: &str =
+    "legend: * walk_past  x train  + reversal  *x coexist (walk-past and training within 10%)  \
+                          . unstable  <> breakup  ? undetermined  ~ mixed";
+
+/// Outcome counts of each point of a sweep, one line per point.
+pub fn point_counts_text(points: &[PointCounts], name: &str, version: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "outcome counts of {name:?} ({version}):");
+    let _ = writeln!(
+        s,
+        "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}",
+        "alpha",
+        "beta",
+        "L",
+        "sigma",
+        "train",
+        "walk",
+        "rev",
+        "undet",
+        "broke up",
+        "unstable",
+        "breakup",
+        "failed",
+        "free speed"
+    );
+    for p in points {
+        let o = &p.outcomes;
+        let pending = p.jobs.pending + p.jobs.running;
+        let _ = writeln!(
+            s,
+            "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}{}",
+            p.alpha,
+            p.beta,
+            p.L,
+            p.sigma,
+            o.train,
+            o.walk_past,
+            o.reversal,
+            o.undetermined,
+            o.collision_breakup,
+            o.unstable,
+            o.breakup,
+            p.jobs.failed,
+            p.free_speed.map_or("-".into(), |v| format!("{v:.3}")),
+            if pending > 0 {
+                format!("  ({pending} to run)")
+            } else {
+                String::new()
+            }
+        );
+    }
+    s
+}

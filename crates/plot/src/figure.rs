@@ -2,6 +2,9 @@
 
 use std::fmt::Write as _;
 
+/// The family name the SVG asks for (the renderer embeds this font).
+pub const FONT_FAMILY: &str = "DejaVu Sans";
+
 use base64::engine::general_purpose::STANDARD as B64;
 use base64::Engine;
 
@@ -194,7 +197,7 @@ impl Figure {
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"{font}, sans-serif\">",
             w = self.width,
             h = self.height,
-            font = crate::render::FONT_FAMILY,
+            font = FONT_FAMILY,
         );
         let _ = writeln!(
             s,
@@ -292,7 +295,7 @@ fn write_shape(s: &mut String, shape: &Shape) {
         }
         Shape::Image { x, y, w, h, cols, rows, rgb } => {
             let bytes: Vec<u8> = rgb.iter().flat_map(|c| [c.0, c.1, c.2]).collect();
-            match crate::render::encode_png(*cols as u32, *rows as u32, &bytes) {
+            match crate::raster::encode_png(*cols as u32, *rows as u32, &bytes) {
                 Ok(png) => writeln!(
                     s,
                     "<image x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" preserveAspectRatio=\"none\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" href=\"data:image/png;base64,{}\"/>",

@@ -9,7 +9,8 @@
 pub mod figure;
 pub mod frames;
 pub mod phase;
+pub mod raster;
 pub mod render;
 
 pub use figure::{viridis, Anchor, Color, Figure, Shape};
-pub use render::{gif, Image, RenderError};
+pub use raster::{gif, Image, RenderError};

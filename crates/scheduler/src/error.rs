@@ -38,7 +38,7 @@ pub enum ValueError {
 pub enum AxisError {
     #[error("is empty")]
     Empty,
-    #[error("{0} values: more than {max}", max = crate::grid::MAX_AXIS_POINTS)]
+    #[error("{0} values: more than {max}", max = crate::limits::MAX_AXIS_POINTS)]
     TooMany(usize),
     #[error("{0} is not a finite number")]
     NotFinite(f64),
@@ -48,7 +48,7 @@ pub enum AxisError {
     StepNotPositive(f64),
     #[error("to = {to} is below from = {from}")]
     Reversed { from: f64, to: f64 },
-    #[error("(to - from) / step = {0:e}: more than {max} points", max = crate::grid::MAX_AXIS_POINTS)]
+    #[error("(to - from) / step = {0:e}: more than {max} points", max = crate::limits::MAX_AXIS_POINTS)]
     RangeTooLong(f64),
     #[error("(to - from) / step = {steps} is not a whole number, so {to} is not on the range")]
     NotWhole { steps: f64, to: f64 },

@@ -9,8 +9,7 @@ pub struct Axis {
     pub values: Vec<f64>,
 }
 
-/// Most points one axis may have.
-pub const MAX_AXIS_POINTS: usize = 1_000;
+pub use crate::limits::MAX_AXIS_POINTS;
 
 /// A value rounded to 12 significant digits: `0.10 + 5 x 0.02` becomes exactly `0.2`.
 pub fn clean(x: f64) -> f64 {

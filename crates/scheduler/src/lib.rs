@@ -12,6 +12,7 @@ pub mod error;
 pub mod export_file;
 pub mod grid;
 pub mod ledger;
+pub mod limits;
 pub mod lock;
 pub mod plan;
 pub mod pool;

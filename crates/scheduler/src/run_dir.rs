@@ -5,7 +5,21 @@
 use std::path::Path;
 
 use crate::error::SlurmError;
-use crate::slurm::{io, write_atomic};
+
+/// An I/O error on a file of the run directory, naming it.
+pub(crate) fn io(e: std::io::Error, what: &Path) -> SlurmError {
+    SlurmError::Io {
+        path: what.display().to_string(),
+        source: e,
+    }
+}
+
+/// Write a file of the run directory whole or not at all (a temporary file, then a rename).
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SlurmError> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, bytes).map_err(|e| io(e, &tmp))?;
+    std::fs::rename(&tmp, path).map_err(|e| io(e, path))
+}
 
 /// The file in a run directory that names the sweep whose files it holds.
 const STAMP: &str = "sweep.uid";

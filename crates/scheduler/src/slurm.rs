@@ -20,7 +20,7 @@ use cellsweep_store::{JobState, SlurmArray, Store};
 
 use crate::error::SlurmError;
 use crate::ledger::{Failure, Ledger, Opening, Settlement, TaskRef};
-use crate::run_dir::{claim_run_dir, run_dir_is};
+use crate::run_dir::{claim_run_dir, io, run_dir_is, write_atomic};
 use crate::wire::{PrepPayload, Request, Response};
 
 /// How to submit.
@@ -55,13 +55,6 @@ pub struct Submission {
     pub jobs_per_task: usize,
     pub scripts: Vec<(String, String)>,
     pub slurm_ids: Vec<(String, String)>,
-}
-
-pub(crate) fn io(e: std::io::Error, what: &Path) -> SlurmError {
-    SlurmError::Io {
-        path: what.display().to_string(),
-        source: e,
-    }
 }
 
 /// MaxArraySize of the cluster (`scontrol show config`); array indices must stay below it.
@@ -162,12 +155,6 @@ pub fn script(
         shell_quote(&sub_dir.display().to_string())
     );
     s
-}
-
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SlurmError> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, bytes).map_err(|e| io(e, &tmp))?;
-    std::fs::rename(&tmp, path).map_err(|e| io(e, path))
 }
 
 fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, SlurmError> {

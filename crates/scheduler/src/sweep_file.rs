@@ -161,10 +161,10 @@ impl<'de> Deserialize<'de> for AxisFile {
                 let mut values = Vec::new();
                 while let Some(Real(x)) = seq.next_element()? {
                     // Bounded here so that a huge list is refused before it is all held.
-                    if values.len() == crate::grid::MAX_AXIS_POINTS {
+                    if values.len() == crate::limits::MAX_AXIS_POINTS {
                         return Err(de::Error::custom(format!(
                             "more than {} values",
-                            crate::grid::MAX_AXIS_POINTS
+                            crate::limits::MAX_AXIS_POINTS
                         )));
                     }
                     values.push(x);

@@ -45,10 +45,11 @@ macro_rules! isa_entry_points {
 
 mod rows;
 mod site;
+mod span;
 mod sums;
 
-pub use rows::{RowSpans, Span};
 pub use site::StepCoeffs;
+pub use span::{RowSpans, Span};
 pub use sums::Sums;
 
 use crate::fibers::Fibers;

@@ -1,8 +1,8 @@
 //! The integrals the next step needs (S and Ad), accumulated in a fixed order so that every
 //! instruction-set path, and the two halves of the rows on two threads or one, give the same bits.
 
-use super::rows::Span;
 use super::site::fma;
+use super::span::Span;
 use super::{isa, Isa};
 use crate::fibers::Fibers;
 use crate::lattice::Lattice;

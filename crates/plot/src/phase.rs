@@ -80,7 +80,7 @@ pub struct Diagram {
 
 fn axis(v: impl Iterator<Item = f64>) -> Vec<f64> {
     let mut a: Vec<f64> = v.collect();
-    a.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+    a.sort_by(|x, y| x.total_cmp(y));
     a.dedup();
     a
 }
@@ -498,7 +498,7 @@ pub fn speed_figure(title: &str, series: &[Series]) -> Figure {
             .map(|(i, q)| (q.0, q.1, bar(s, i)))
             .filter(|q| q.1.is_finite())
             .collect();
-        pts.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         for w in pts.windows(2) {
             fig.line(
                 p.px(w[0].0),

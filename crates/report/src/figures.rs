@@ -48,7 +48,7 @@ pub fn diagrams(counts: &[Counts]) -> Vec<(u32, f64)> {
             keys.push((c.L, c.sigma));
         }
     }
-    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.partial_cmp(&a.1).expect("finite")));
+    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)));
     keys
 }
 

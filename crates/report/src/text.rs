@@ -9,7 +9,7 @@ use cellsweep_store::PointCounts;
 /// Sorted distinct values.
 pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
     let mut v: Vec<f64> = values.collect();
-    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    v.sort_by(|a, b| a.total_cmp(b));
     v.dedup();
     v
 }

@@ -401,7 +401,9 @@ pub async fn run_sweep(
         let mut ids: Vec<usize> = workers.keys().copied().collect();
         ids.sort_unstable();
         for id in ids.into_iter().filter(|_| grace_until.is_none()) {
-            let w = workers.get_mut(&id).expect("worker");
+            let Some(w) = workers.get_mut(&id) else {
+                continue;
+            };
             if w.busy.is_some() {
                 continue;
             }

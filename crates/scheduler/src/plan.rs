@@ -23,6 +23,8 @@ pub fn fnv1a(text: &str) -> u64 {
 
 /// The identity of a prep: single-cell parameters (no sigma, no g) and the stages it runs.
 pub fn prep_key(params: &Params, protocol: &Protocol) -> String {
+    // Parameters are plain data (finite numbers, checked by `validate`): serde_json cannot
+    // fail on them, here or below.
     let mut p = serde_json::to_value(params).expect("params serialize");
     if let Value::Object(map) = &mut p {
         map.remove("sigma");
@@ -46,6 +48,7 @@ pub fn prep_seed(sweep_seed: u64, key: &str, index: u32) -> u64 {
 
 /// Seed of replicate `replicate` of the point with parameters `params`.
 pub fn job_seed(sweep_seed: u64, params: &Params, replicate: u32) -> u64 {
+    // (As in `prep_key`: plain data.)
     let key = serde_json::to_string(params).expect("params serialize");
     derive(&[sweep_seed, COLLISION_TAG, fnv1a(&key), replicate as u64])
 }
@@ -69,6 +72,7 @@ pub fn plan_targets(sweep: &Sweep, source: &str, target: &dyn Fn(usize) -> u32) 
             protocol: sweep.protocol.clone(),
             classifier: sweep.classifier.clone(),
         };
+        // (Plain data, as in `prep_key`.)
         let config_json = serde_json::to_string(&config).expect("config serializes");
         let mut own_preps = Vec::new();
         for i in 0..sweep.preps_per_point {

@@ -67,6 +67,7 @@ impl Process {
             });
         }
         let mut child = command.spawn()?;
+        // (All three were piped by the command above.)
         let stdin = child.stdin.take().expect("piped stdin");
         let stdout = BufReader::new(child.stdout.take().expect("piped stdout")).lines();
         let stderr = child.stderr.take().expect("piped stderr");
@@ -75,7 +76,7 @@ impl Process {
         let stderr_task = tokio::spawn(async move {
             let mut lines = BufReader::new(stderr).lines();
             while let Ok(Some(line)) = lines.next_line().await {
-                let mut t = tail.lock().expect("stderr tail");
+                let mut t = tail.lock().unwrap_or_else(|e| e.into_inner());
                 if t.len() == 8 {
                     t.pop_front();
                 }
@@ -130,7 +131,7 @@ impl Process {
             }
         };
         let _ = tokio::time::timeout(Duration::from_millis(500), &mut self.stderr_task).await;
-        let tail = self.stderr_tail.lock().expect("stderr tail");
+        let tail = self.stderr_tail.lock().unwrap_or_else(|e| e.into_inner());
         match tail.back() {
             Some(last) => format!("worker {status}: {last}"),
             None => format!("worker {status}"),

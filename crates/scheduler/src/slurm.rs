@@ -477,7 +477,9 @@ pub fn collect(
 ) -> Result<Collected, SlurmError> {
     let ledger = Ledger::load(store, sweep_id, version)?;
     let mut c = Collected::default();
-    let uid = store.sweep_uid(sweep_id, true)?.expect("created");
+    let Some(uid) = store.sweep_uid(sweep_id, true)? else {
+        return Err(format!("sweep {sweep_id} has no uid in the store").into());
+    };
     if let Err(why) = run_dir_is(run_dir, &uid) {
         c.problems.push(why.to_string());
         return Ok(c);

@@ -450,6 +450,8 @@ impl Sweep {
 
     /// Canonical JSON of the sweep's definition (everything but the run settings).
     pub fn canonical_json(&self) -> String {
+        // Plain data with string keys and finite numbers (checked when read): serde_json
+        // cannot fail on it.
         serde_json::to_string(self).expect("a sweep serializes")
     }
 }

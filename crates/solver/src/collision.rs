@@ -290,6 +290,7 @@ impl Run<'_> {
             if n % steps.record_every == 0 || n == steps.collide {
                 // Unwrap the centroids from the previous sample's.
                 let mut smp = sample(lat, t, &a, &b);
+                // The sample at t = 0 is recorded before the loop.
                 let prev = track.last().expect("the first sample is recorded");
                 for c in 0..2 {
                     smp.x[c] = prev.x[c] + lat.wrap_dx(prev.xbar[c], smp.xbar[c]);

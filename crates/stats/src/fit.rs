@@ -137,7 +137,11 @@ pub(crate) fn columns(
             keys.push((c.L, c.sigma, c.alpha));
         }
     }
-    keys.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+    keys.sort_by(|x, y| {
+        (x.0.cmp(&y.0))
+            .then(x.1.total_cmp(&y.1))
+            .then(x.2.total_cmp(&y.2))
+    });
     keys.into_iter()
         .map(|(l, sigma, alpha)| {
             let mut pts: Vec<(f64, i64)> = counts
@@ -146,7 +150,7 @@ pub(crate) fn columns(
                 .filter(|(_, c)| c.L == l && c.sigma == sigma && c.alpha == alpha && c.collided())
                 .map(|(i, c)| (c.beta, diff(i)))
                 .collect();
-            pts.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
             let (beta_star, skipped) = match crossing(&pts) {
                 Ok(b) => (Some(b), None),
                 Err(why) => (None, Some(why.to_string())),
@@ -286,7 +290,7 @@ pub(crate) fn percentile_95(v: &mut [f64]) -> [f64; 2] {
     if v.is_empty() {
         return [f64::NAN, f64::NAN];
     }
-    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    v.sort_by(|a, b| a.total_cmp(b));
     let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
     [q(0.025), q(0.975)]
 }

@@ -26,6 +26,7 @@ pub fn f64s_to_bytes(v: &[f64]) -> Vec<u8> {
 
 pub fn bytes_to_f64s(b: &[u8]) -> Vec<f64> {
     b.chunks_exact(8)
+        // chunks_exact(8) gives slices of 8 bytes only.
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect()
 }

@@ -70,7 +70,7 @@ pub(super) fn global_fit(an: &Analysis<'_>) -> Claim {
 fn spearman(xy: &[(f64, f64)]) -> f64 {
     let rank = |v: Vec<f64>| -> Vec<f64> {
         let mut idx: Vec<usize> = (0..v.len()).collect();
-        idx.sort_by(|&a, &b| v[a].partial_cmp(&v[b]).expect("finite"));
+        idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
         let mut r = vec![0.0; v.len()];
         for (k, &i) in idx.iter().enumerate() {
             r[i] = k as f64;
@@ -114,7 +114,7 @@ pub(super) fn speed(an: &Analysis<'_>) -> Claim {
         let (m, se) = mean_and_error(&cells);
         rows.push((c.beta, m, se, cells.len()));
     }
-    rows.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite"));
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     if rows.len() < 3 {
         return Claim {
             source,

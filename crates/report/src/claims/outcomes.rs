@@ -126,7 +126,7 @@ pub(super) fn transition(an: &Analysis<'_>) -> Claim {
     let placed = ct.0 > cw.0 && ct.1 < cw.1;
     // Sign changes per column, in beta order, over collided points.
     let mut alphas: Vec<f64> = s.counts().map(|c| c.alpha).collect();
-    alphas.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    alphas.sort_by(|a, b| a.total_cmp(b));
     alphas.dedup();
     let mut bad = Vec::new();
     for &a in &alphas {
@@ -134,7 +134,7 @@ pub(super) fn transition(an: &Analysis<'_>) -> Claim {
             .counts()
             .filter(|c| c.alpha == a && c.collided())
             .collect();
-        col.sort_by(|x, y| x.beta.partial_cmp(&y.beta).expect("finite"));
+        col.sort_by(|x, y| x.beta.total_cmp(&y.beta));
         let signs: Vec<i64> = col
             .iter()
             .map(|c| (c.n_walk as i64 - c.n_train as i64).signum())

@@ -46,9 +46,9 @@ impl Ledger {
         let Some(job_id) = store.job_at(self.sweep_id, &self.version, axes, row.replicate)? else {
             return refuse("no such job in the sweep".into());
         };
-        let job = store
-            .job_identity(job_id)?
-            .expect("a job just found exists");
+        let Some(job) = store.job_identity(job_id)? else {
+            return refuse("no such job in the sweep".into());
+        };
         if job.seed != row.collision_seed {
             return refuse(format!(
                 "collision seed {} is not the job's {}",

@@ -38,7 +38,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{SweepError, ValueError};
 use crate::grid;
-use crate::sweep_file::{self, AxisFile, ProtocolFile, Whole};
+use crate::sweep_file::{self, AdaptiveFile, AxisFile, ProtocolFile, RunFile, Whole};
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -152,6 +152,156 @@ impl Ctx<'_> {
     }
 }
 
+/// The fiber spacings of `grid.L`: whole, non-negative, within the lattice limit, and even on
+/// two fibers.
+fn spacings(values: &[f64], geometry: Geometry, cx: &Ctx) -> Result<Vec<u32>, SweepError> {
+    let mut spacing = Vec::new();
+    for &l in values {
+        if l > MAX_SITES as f64 {
+            return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
+        }
+        if l < 0.0 {
+            return Err(cx.err(
+                "grid.L",
+                format!("{l} is negative: a fiber spacing is a distance, in lattice sites"),
+            ));
+        }
+        if l.fract() != 0.0 {
+            return Err(cx.err(
+                "grid.L",
+                format!("{l} is not a whole number of lattice sites"),
+            ));
+        }
+        if geometry == Geometry::Two && !(l as u64).is_multiple_of(2) {
+            return Err(cx.err(
+                "grid.L",
+                format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
+            ));
+        }
+        spacing.push(l as u32);
+    }
+    Ok(spacing)
+}
+
+/// `[adaptive]`, its budget `replicates` unless it sets its own (`given`: the file set
+/// `replicates`, so the two must agree).
+fn adaptive_rule(
+    a: &AdaptiveFile,
+    replicates: u64,
+    given: bool,
+    cx: &Ctx,
+) -> Result<AdaptiveRule, SweepError> {
+    let get = |v: Option<Whole>, key: &str, default: u64| -> Result<u32, SweepError> {
+        let full = format!("adaptive.{key}");
+        v.map_or(Ok(default), |v| cx.whole(v, &full, 1, MAX_REPLICATES))
+            .map(|n| n as u32)
+    };
+    let max = get(a.max_replicates, "max_replicates", replicates)?;
+    if given && max as u64 != replicates {
+        return Err(cx.err(
+            "adaptive.max_replicates",
+            format!("{max} differs from replicates = {replicates}: give one of them"),
+        ));
+    }
+    let rule = AdaptiveRule {
+        batch: get(a.batch, "batch", 8)?,
+        min_replicates: get(a.min_replicates, "min_replicates", 8.min(max as u64))?,
+        max_replicates: max,
+        error: a.error.map_or(0.05, |e| e.0),
+    };
+    if a.max_replicates.is_none() && rule.min_replicates > max {
+        // The budget came from `replicates`: blame the key the file did set.
+        return Err(cx.err(
+            "adaptive.min_replicates",
+            format!(
+                "{} is above the budget of replicates = {max}",
+                rule.min_replicates
+            ),
+        ));
+    }
+    rule.validate()
+        .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
+    Ok(rule)
+}
+
+/// `[run]` over the defaults.
+fn run_settings(r: &RunFile, cx: &Ctx) -> Result<RunSettings, SweepError> {
+    let mut run = RunSettings::default();
+    if let Some(x) = r.job_timeout {
+        run.job_timeout = job_timeout(x.0).map_err(|p| cx.err("run.job_timeout", p.to_string()))?;
+    }
+    if let Some(n) = r.max_attempts {
+        run.max_attempts = cx.whole(n, "run.max_attempts", 1, MAX_ATTEMPTS)? as u32;
+    }
+    Ok(run)
+}
+
+/// The grid's points and the sweep's jobs within their limits.
+fn check_size(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
+    let g = &sweep.grid;
+    let points = [g.alpha.len(), g.beta.len(), g.L.len(), g.sigma.len()]
+        .iter()
+        .fold(1u64, |n, &k| n.saturating_mul(k as u64));
+    if points > MAX_POINTS {
+        return Err(cx.err("grid", format!("{points} points is more than {MAX_POINTS}")));
+    }
+    let jobs = points.saturating_mul(sweep.replicates as u64);
+    if jobs > MAX_JOBS {
+        return Err(cx.err(
+            "replicates",
+            format!(
+                "{points} points x {} replicates = {jobs} jobs is more than {MAX_JOBS}",
+                sweep.replicates
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every point a valid model: the first invalid one names the key to fix.
+fn check_points(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
+    // Every point must be a valid model: the first invalid one names the key to fix.
+    for point in sweep.points() {
+        sweep.protocol.validate(&point).map_err(|e| {
+            let mut name = e.parameter();
+            if matches!(e, cellsweep_solver::ParamError::Unstable { .. }) {
+                // Blame the grid's alpha if its smallest value would be stable, else dt.
+                let min_alpha = sweep
+                    .grid
+                    .alpha
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                let calmer = Params {
+                    alpha: min_alpha,
+                    ..point.clone()
+                };
+                if calmer.diffusive_number() <= 0.25 {
+                    name = "alpha";
+                }
+            }
+            let key = if GRID_KEYS.contains(&name) {
+                format!("grid.{name}")
+            } else if name.contains("lattice")
+                || name.ends_with("_time")
+                || name.ends_with("_interval")
+            {
+                format!("protocol.{name}")
+            } else {
+                format!("params.{name}")
+            };
+            cx.err(
+                key,
+                format!(
+                    "at alpha = {}, beta = {}, L = {}, sigma = {}: {e}",
+                    point.alpha, point.beta, point.L, point.sigma
+                ),
+            )
+        })?;
+    }
+    Ok(())
+}
+
 /// `[protocol]` over the defaults; a single lattice given alone sets the pair lattice to twice
 /// its width. Durations and intervals are checked with the model (`Protocol::validate`).
 fn protocol(p: ProtocolFile, cx: &Ctx) -> Result<Protocol, SweepError> {
@@ -261,31 +411,7 @@ impl Sweep {
                 .map(|a| a.values)
                 .map_err(|p| cx.err(&full, p.to_string()))
         };
-        let mut spacing = Vec::new();
-        for l in axis(g.L, "L")? {
-            if l > MAX_SITES as f64 {
-                return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
-            }
-            if l < 0.0 {
-                return Err(cx.err(
-                    "grid.L",
-                    format!("{l} is negative: a fiber spacing is a distance, in lattice sites"),
-                ));
-            }
-            if l.fract() != 0.0 {
-                return Err(cx.err(
-                    "grid.L",
-                    format!("{l} is not a whole number of lattice sites"),
-                ));
-            }
-            if params.geometry == Geometry::Two && !(l as u64).is_multiple_of(2) {
-                return Err(cx.err(
-                    "grid.L",
-                    format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
-                ));
-            }
-            spacing.push(l as u32);
-        }
+        let spacing = spacings(&axis(g.L, "L")?, params.geometry, &cx)?;
         let grid = Grid {
             alpha: axis(g.alpha, "alpha")?,
             beta: axis(g.beta, "beta")?,
@@ -302,52 +428,13 @@ impl Sweep {
 
         let adaptive = match f.adaptive {
             None => None,
-            Some(a) => {
-                let get = |v: Option<Whole>, key: &str, default: u64| -> Result<u32, SweepError> {
-                    let full = format!("adaptive.{key}");
-                    v.map_or(Ok(default), |v| cx.whole(v, &full, 1, MAX_REPLICATES))
-                        .map(|n| n as u32)
-                };
-                let max = get(a.max_replicates, "max_replicates", replicates)?;
-                if f.replicates.is_some() && max as u64 != replicates {
-                    return Err(cx.err(
-                        "adaptive.max_replicates",
-                        format!("{max} differs from replicates = {replicates}: give one of them"),
-                    ));
-                }
-                let rule = AdaptiveRule {
-                    batch: get(a.batch, "batch", 8)?,
-                    min_replicates: get(a.min_replicates, "min_replicates", 8.min(max as u64))?,
-                    max_replicates: max,
-                    error: a.error.map_or(0.05, |e| e.0),
-                };
-                if a.max_replicates.is_none() && rule.min_replicates > max {
-                    // The budget came from `replicates`: blame the key the file did set.
-                    return Err(cx.err(
-                        "adaptive.min_replicates",
-                        format!(
-                            "{} is above the budget of replicates = {max}",
-                            rule.min_replicates
-                        ),
-                    ));
-                }
-                rule.validate()
-                    .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
-                Some(rule)
-            }
+            Some(a) => Some(adaptive_rule(&a, replicates, f.replicates.is_some(), &cx)?),
         };
         let replicates = adaptive.map_or(replicates, |a| a.max_replicates as u64);
 
-        let mut run = RunSettings::default();
-        if let Some(r) = f.run {
-            if let Some(x) = r.job_timeout {
-                run.job_timeout =
-                    job_timeout(x.0).map_err(|p| cx.err("run.job_timeout", p.to_string()))?;
-            }
-            if let Some(n) = r.max_attempts {
-                run.max_attempts = cx.whole(n, "run.max_attempts", 1, MAX_ATTEMPTS)? as u32;
-            }
-        }
+        let run = f
+            .run
+            .map_or(Ok(RunSettings::default()), |r| run_settings(&r, &cx))?;
 
         let sweep = Sweep {
             name,
@@ -361,62 +448,8 @@ impl Sweep {
             adaptive,
             run,
         };
-        let g = &sweep.grid;
-        let points = [g.alpha.len(), g.beta.len(), g.L.len(), g.sigma.len()]
-            .iter()
-            .fold(1u64, |n, &k| n.saturating_mul(k as u64));
-        if points > MAX_POINTS {
-            return Err(cx.err("grid", format!("{points} points is more than {MAX_POINTS}")));
-        }
-        let jobs = points.saturating_mul(sweep.replicates as u64);
-        if jobs > MAX_JOBS {
-            return Err(cx.err(
-                "replicates",
-                format!(
-                    "{points} points x {} replicates = {jobs} jobs is more than {MAX_JOBS}",
-                    sweep.replicates
-                ),
-            ));
-        }
-        // Every point must be a valid model: the first invalid one names the key to fix.
-        for point in sweep.points() {
-            sweep.protocol.validate(&point).map_err(|e| {
-                let mut name = e.parameter();
-                if matches!(e, cellsweep_solver::ParamError::Unstable { .. }) {
-                    // Blame the grid's alpha if its smallest value would be stable, else dt.
-                    let min_alpha = sweep
-                        .grid
-                        .alpha
-                        .iter()
-                        .copied()
-                        .fold(f64::INFINITY, f64::min);
-                    let calmer = Params {
-                        alpha: min_alpha,
-                        ..point.clone()
-                    };
-                    if calmer.diffusive_number() <= 0.25 {
-                        name = "alpha";
-                    }
-                }
-                let key = if GRID_KEYS.contains(&name) {
-                    format!("grid.{name}")
-                } else if name.contains("lattice")
-                    || name.ends_with("_time")
-                    || name.ends_with("_interval")
-                {
-                    format!("protocol.{name}")
-                } else {
-                    format!("params.{name}")
-                };
-                cx.err(
-                    key,
-                    format!(
-                        "at alpha = {}, beta = {}, L = {}, sigma = {}: {e}",
-                        point.alpha, point.beta, point.L, point.sigma
-                    ),
-                )
-            })?;
-        }
+        check_size(&sweep, &cx)?;
+        check_points(&sweep, &cx)?;
         Ok(sweep)
     }
 

@@ -1,0 +1,157 @@
+//! Slurm's own commands and syntax: the cluster's MaxArraySize, the sbatch scripts (every value
+//! checked to stay on its line), `sbatch` itself and the queue's states (`squeue`).
+
+use std::path::Path;
+
+use super::SubmitOptions;
+use crate::error::SlurmError;
+
+/// MaxArraySize of the cluster (`scontrol show config`); array indices must stay below it.
+pub fn max_array_size() -> Option<usize> {
+    let out = std::process::Command::new("scontrol")
+        .args(["show", "config"])
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .find(|l| l.trim_start().starts_with("MaxArraySize"))
+        .and_then(|l| l.split('=').nth(1))
+        .and_then(|v| v.trim().parse().ok())
+}
+
+/// A word for the shell, in single quotes (a quote inside becomes '\'').
+pub fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+impl SubmitOptions {
+    /// Every value that reaches a script must stay on its line: no newline, carriage return
+    /// or NUL (an `#SBATCH` value with a newline would end the header and run as a command);
+    /// the Slurm values must be in Slurm's own syntax.
+    pub fn validate(&self) -> Result<(), SlurmError> {
+        let mut values: Vec<(&str, String)> = vec![
+            ("--run-dir", self.run_dir.display().to_string()),
+            (
+                "the cellsweep executable's path",
+                self.exe.display().to_string(),
+            ),
+        ];
+        values.extend(self.partition.iter().map(|p| ("--partition", p.clone())));
+        values.extend(self.account.iter().map(|a| ("--account", a.clone())));
+        values.extend(self.time.iter().map(|t| ("--time", t.clone())));
+        values.extend(self.sbatch_args.iter().map(|a| ("--sbatch-arg", a.clone())));
+        for (flag, v) in values {
+            if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
+                return Err(format!(
+                    "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
+                )
+                .into());
+            }
+        }
+        use crate::slurm_syntax::{account, partition, sbatch_arg, time_limit};
+        type Check = fn(&str) -> Result<(), String>;
+        let checks: [(&str, Option<&String>, Check); 3] = [
+            ("--partition", self.partition.as_ref(), partition),
+            ("--account", self.account.as_ref(), account),
+            ("--time", self.time.as_ref(), time_limit),
+        ];
+        for (flag, value, check) in checks {
+            if let Some(v) = value {
+                check(v).map_err(|e| format!("{flag}: {e}; nothing was written"))?;
+            }
+        }
+        for a in &self.sbatch_args {
+            sbatch_arg(a).map_err(|e| format!("--sbatch-arg: {e}; nothing was written"))?;
+        }
+        Ok(())
+    }
+}
+
+/// The sbatch script of one array.
+pub fn script(
+    opts: &SubmitOptions,
+    sub_dir: &Path,
+    kind: &str,
+    tasks: usize,
+    name: &str,
+) -> String {
+    let mut s = String::from("#!/bin/bash\n");
+    s += &format!("#SBATCH --job-name=cellsweep-{name}-{kind}\n");
+    let throttle = opts.max_running.map_or(String::new(), |n| format!("%{n}"));
+    s += &format!("#SBATCH --array=0-{}{throttle}\n", tasks.saturating_sub(1));
+    s += &format!(
+        "#SBATCH --output={}/logs/{kind}-%a.out\n",
+        sub_dir.display()
+    );
+    s += "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n";
+    // Two minutes' warning before the time limit: the task stops after its current record.
+    s += "#SBATCH --signal=B:USR1@120\n";
+    if let Some(p) = &opts.partition {
+        s += &format!("#SBATCH --partition={p}\n");
+    }
+    if let Some(a) = &opts.account {
+        s += &format!("#SBATCH --account={a}\n");
+    }
+    if let Some(t) = &opts.time {
+        s += &format!("#SBATCH --time={t}\n");
+    }
+    for a in &opts.sbatch_args {
+        s += &format!("#SBATCH {a}\n");
+    }
+    s += &format!(
+        "exec {} worker --slurm {} --kind {kind}\n",
+        shell_quote(&opts.exe.display().to_string()),
+        shell_quote(&sub_dir.display().to_string())
+    );
+    s
+}
+
+pub(super) fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, SlurmError> {
+    let mut cmd = std::process::Command::new("sbatch");
+    cmd.arg("--parsable");
+    if let Some(d) = dependency {
+        cmd.arg(format!("--dependency=afterany:{d}"));
+    }
+    let out = cmd
+        .arg(script)
+        .output()
+        .map_err(|e| format!("cannot run sbatch: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "sbatch {} failed: {}",
+            script.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        )
+        .into());
+    }
+    let id = String::from_utf8_lossy(&out.stdout)
+        .trim()
+        .split(';')
+        .next()
+        .unwrap_or("")
+        .to_string();
+    if id.is_empty() {
+        return Err("sbatch printed no job id".into());
+    }
+    Ok(id)
+}
+
+/// Counts of the sweep's array tasks by Slurm state (squeue), where Slurm answers.
+pub fn queue_states(job_ids: &[String]) -> Option<Vec<(String, usize)>> {
+    if job_ids.is_empty() {
+        return Some(Vec::new());
+    }
+    let out = std::process::Command::new("squeue")
+        .args(["-h", "-r", "-o", "%T", "-j", &job_ids.join(",")])
+        .output()
+        .ok()?;
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let s = line.trim().to_string();
+        match counts.iter_mut().find(|(k, _)| *k == s) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((s, 1)),
+        }
+    }
+    Some(counts)
+}

@@ -1,0 +1,241 @@
+//! Slurm as the distributed engine: `submit` writes task files and sbatch scripts into a run
+//! directory on the cluster's shared filesystem and submits two job arrays (preps, then
+//! collisions with a dependency); array tasks run `cellsweep worker --slurm` on their slice and
+//! append one JSON line per result to a file of their own; `collect` ingests those files into
+//! the store, idempotently. Compute nodes never open the SQLite database.
+//!
+//! Run directory layout:
+//! ```text
+//! RUN_DIR/preps/<prep id>.json            prepped cells (written atomically: tmp + rename)
+//! RUN_DIR/sub-<n>/tasks/<kind>/<task>.jsonl    requests of one array task
+//! RUN_DIR/sub-<n>/results/<kind>-<task>.jsonl  one response per line, appended and flushed
+//! RUN_DIR/sub-<n>/{prep,collide}.sbatch, logs/
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use cellsweep_store::{JobState, SlurmArray, Store};
+
+use crate::error::SlurmError;
+use crate::ledger::{Ledger, Opening};
+use crate::run_dir::{claim_run_dir, io, write_atomic};
+use crate::wire::{PrepPayload, Request};
+
+mod array_task;
+mod collect;
+mod commands;
+
+pub use array_task::serve_array_task;
+pub use collect::{collect, read_responses, Collected};
+use commands::sbatch;
+pub use commands::{max_array_size, queue_states, script, shell_quote};
+
+/// How to submit.
+#[derive(Debug, Clone)]
+pub struct SubmitOptions {
+    pub run_dir: PathBuf,
+    pub partition: Option<String>,
+    pub account: Option<String>,
+    pub time: Option<String>,
+    pub jobs_per_task: usize,
+    /// Most array tasks running at once (`%N`).
+    pub max_running: Option<usize>,
+    pub sbatch_args: Vec<String>,
+    /// The cellsweep executable the array tasks run (on the shared filesystem).
+    pub exe: PathBuf,
+    /// Failed attempts after which a task is failed for good (applied when submitting: a
+    /// task out of attempts is not sent again).
+    pub max_attempts: u32,
+    pub dry_run: bool,
+}
+
+/// What a submission did.
+#[derive(Debug, Clone, Default)]
+pub struct Submission {
+    /// What the ledger did before anything was sent.
+    pub opening: Opening,
+    pub sub_dir: PathBuf,
+    pub prep_tasks: usize,
+    pub preps: usize,
+    pub collide_tasks: usize,
+    pub jobs: usize,
+    pub jobs_per_task: usize,
+    pub scripts: Vec<(String, String)>,
+    pub slurm_ids: Vec<(String, String)>,
+}
+
+fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, SlurmError> {
+    std::fs::create_dir_all(dir).map_err(|e| io(e, dir))?;
+    let mut n = 0;
+    for (k, chunk) in reqs.chunks(per_task.max(1)).enumerate() {
+        let mut text = String::new();
+        for r in chunk {
+            text += &serde_json::to_string(r)?;
+            text.push('\n');
+        }
+        write_atomic(&dir.join(format!("{k}.jsonl")), text.as_bytes())?;
+        n += 1;
+    }
+    Ok(n)
+}
+
+/// Submit the sweep's preps and jobs that have no result yet.
+pub fn submit(
+    store: &mut Store,
+    sweep_id: i64,
+    name: &str,
+    version: &str,
+    opts: &SubmitOptions,
+) -> Result<Submission, SlurmError> {
+    let preps_dir = opts.run_dir.join("preps");
+    // (A dry run of a sweep never submitted has no uid yet: nothing to compare with.)
+    if let Some(uid) = store.sweep_uid(sweep_id, !opts.dry_run)? {
+        claim_run_dir(&opts.run_dir, &uid, opts.dry_run)?;
+    }
+    let mut opening = Opening::default();
+    if !opts.dry_run {
+        // The start every engine makes: work a killed local run left `running` is submitted
+        // too, tasks out of attempts fail for good, decided preps settle their jobs, an
+        // adaptive sweep plans its next round.
+        opening = Ledger::open(store, sweep_id, version, opts.max_attempts)?.1;
+    }
+    let (prep_reqs, job_reqs) = requests(store, sweep_id, version, &preps_dir, opts.dry_run)?;
+    let max_index = max_array_size().unwrap_or(1001).saturating_sub(1).max(1);
+    let per_task = opts
+        .jobs_per_task
+        .max(1)
+        .max(job_reqs.len().div_ceil(max_index));
+    let prep_per_task = 1usize.max(prep_reqs.len().div_ceil(max_index));
+    let n = std::fs::read_dir(&opts.run_dir)
+        .map(|d| d.count())
+        .unwrap_or(0);
+    let sub_dir = opts
+        .run_dir
+        .join(format!("sub-{n:04}-{}", std::process::id()));
+    let mut sub = Submission {
+        opening,
+        sub_dir: sub_dir.clone(),
+        jobs_per_task: per_task,
+        preps: prep_reqs.len(),
+        jobs: job_reqs.len(),
+        ..Default::default()
+    };
+    sub.prep_tasks = prep_reqs.len().div_ceil(prep_per_task);
+    sub.collide_tasks = job_reqs.len().div_ceil(per_task);
+    if sub.prep_tasks > 0 {
+        sub.scripts.push((
+            "prep".into(),
+            script(opts, &sub_dir, "prep", sub.prep_tasks, name),
+        ));
+    }
+    if sub.collide_tasks > 0 {
+        sub.scripts.push((
+            "collide".into(),
+            script(opts, &sub_dir, "collide", sub.collide_tasks, name),
+        ));
+    }
+    if opts.dry_run || sub.scripts.is_empty() {
+        return Ok(sub);
+    }
+    write_submission(&sub, &prep_reqs, &job_reqs, prep_per_task, &preps_dir)?;
+    send(store, sweep_id, version, opts, &mut sub)?;
+    Ok(sub)
+}
+
+fn payload_from_store(store: &Store, prep_id: i64, seed: u64) -> Result<PrepPayload, SlurmError> {
+    Ok(PrepPayload::from_record(store.load_prep(prep_id)?, seed)?)
+}
+
+/// The requests of a submission: every prep without a result, and the pending jobs whose prep
+/// is not decided against them. The preps already done `ok` are written out for the collision
+/// tasks (unless `dry_run`).
+fn requests(
+    store: &Store,
+    sweep_id: i64,
+    version: &str,
+    preps_dir: &Path,
+    dry_run: bool,
+) -> Result<(Vec<Request>, Vec<Request>), SlurmError> {
+    let preps = store.preps_of(sweep_id, version)?;
+    let jobs = store.pending_jobs(sweep_id, version)?;
+    // Preps decided earlier: a verdict that is not ok settled its jobs (the ledger, above);
+    // ok preps are written out for the collision tasks.
+    let mut prep_reqs = Vec::new();
+    let mut blocked = std::collections::HashSet::new();
+    for p in &preps {
+        match (p.state, p.verdict.as_deref()) {
+            (JobState::Done, Some("ok")) => {
+                let path = preps_dir.join(format!("{}.json", p.id));
+                if !path.exists() && !dry_run {
+                    std::fs::create_dir_all(preps_dir).map_err(|x| io(x, preps_dir))?;
+                    let payload = payload_from_store(store, p.id, p.seed)?;
+                    write_atomic(&path, serde_json::to_string(&payload)?.as_bytes())?;
+                }
+            }
+            (JobState::Done | JobState::Failed, _) => {
+                blocked.insert(p.id);
+            }
+            _ => prep_reqs.push(Request::prep(p)?),
+        }
+    }
+    let job_reqs = jobs
+        .iter()
+        .filter(|j| !blocked.contains(&j.prep_id))
+        .map(|j| Request::collide(j, None))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((prep_reqs, job_reqs))
+}
+
+/// The submission's directory: its logs and results folders and its task files.
+fn write_submission(
+    sub: &Submission,
+    prep_reqs: &[Request],
+    job_reqs: &[Request],
+    prep_per_task: usize,
+    preps_dir: &Path,
+) -> Result<(), SlurmError> {
+    let sub_dir = &sub.sub_dir;
+    for d in ["logs", "results"] {
+        std::fs::create_dir_all(sub_dir.join(d)).map_err(|x| io(x, sub_dir))?;
+    }
+    std::fs::create_dir_all(preps_dir).map_err(|x| io(x, preps_dir))?;
+    write_tasks(&sub_dir.join("tasks/prep"), prep_reqs, prep_per_task)?;
+    write_tasks(&sub_dir.join("tasks/collide"), job_reqs, sub.jobs_per_task)?;
+    Ok(())
+}
+
+/// Submit the arrays of `sub` (the collisions after the preps) and record them in the store.
+fn send(
+    store: &mut Store,
+    sweep_id: i64,
+    version: &str,
+    opts: &SubmitOptions,
+    sub: &mut Submission,
+) -> Result<(), SlurmError> {
+    let mut previous: Option<String> = None;
+    for (kind, text) in sub.scripts.clone() {
+        let path = sub.sub_dir.join(format!("{kind}.sbatch"));
+        write_atomic(&path, text.as_bytes())?;
+        let id = sbatch(&path, previous.as_deref())?;
+        let (tasks, count) = if kind == "prep" {
+            (sub.prep_tasks, sub.preps)
+        } else {
+            (sub.collide_tasks, sub.jobs)
+        };
+        store.record_array(
+            sweep_id,
+            version,
+            &SlurmArray {
+                kind: kind.clone(),
+                slurm_job_id: id.clone(),
+                run_dir: opts.run_dir.display().to_string(),
+                tasks: tasks as i64,
+                jobs: count as i64,
+                submitted_at: cellsweep_store::now(),
+            },
+        )?;
+        sub.slurm_ids.push((kind, id.clone()));
+        previous = Some(id);
+    }
+    Ok(())
+}

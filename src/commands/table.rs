@@ -24,165 +24,183 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
             .map(|(_, a)| a.clone())
             .collect()
     });
-    let standing = |i: usize| standings.as_ref().map(|s| &s[i]);
     let counts: Vec<Counts> = loaded.counts.into_iter().filter(|c| keep(c)).collect();
     if counts.is_empty() {
         anyhow::bail!("no points match in {}", loaded.name);
     }
+    let standings = standings.as_deref();
     match args.format {
-        Format::Text => {
-            for (l, sigma) in diagrams(&counts) {
-                println!("{}", grid_text(&counts, l, sigma));
-            }
-            println!("{LEGEND}\n");
-            println!(
-                "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  label{}",
-                "alpha",
-                "beta",
-                "L",
-                "sigma",
-                "n",
-                "train",
-                "walk_past",
-                "reversal",
-                "undetermined",
-                "broke up",
-                if standings.is_some() {
-                    "  standing (adaptive)"
-                } else {
-                    ""
-                }
-            );
-            for (i, c) in counts.iter().enumerate() {
-                let n = c.total();
-                let cells: Vec<String> = fractions(c)
-                    .iter()
-                    .map(|&(k, _)| fraction_cell(k, n))
-                    .collect();
-                let st = standing(i).map_or(String::new(), |a| {
-                    format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
-                });
-                println!(
-                    "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
-                    c.alpha,
-                    c.beta,
-                    c.L,
-                    c.sigma,
-                    n,
-                    cells[0],
-                    cells[1],
-                    cells[2],
-                    cells[3],
-                    cells[4],
-                    c.label().map_or("-", Label::as_str)
-                );
-            }
-        }
-        Format::Csv => {
-            let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n".to_string();
-            for f in FRACTIONS {
-                header += &format!(",f_{f},f_{f}_low,f_{f}_high");
-            }
-            header += ",free_speed,label";
-            if standings.is_some() {
-                header += ",standing,assessed_n";
-                for f in FRACTIONS {
-                    header += &format!(",{f}_lo,{f}_hi");
-                }
-                header += ",walk_minus_train_lo,walk_minus_train_hi";
-            }
-            println!("{header}");
-            for (i, c) in counts.iter().enumerate() {
-                let n = c.total();
-                let mut row = format!(
-                    "{},{},{},{},{},{},{},{},{},{},{},{}",
-                    c.alpha,
-                    c.beta,
-                    c.L,
-                    c.sigma,
-                    c.n_train,
-                    c.n_walk,
-                    c.n_reversal,
-                    c.n_undetermined,
-                    c.n_unstable,
-                    c.n_breakup,
-                    c.n_collision_breakup,
-                    n
-                );
-                for (k, _) in fractions(c) {
-                    // (Empty cells for a point with no replicate: no fraction to give.)
-                    row += &match n {
-                        0 => ",,,".to_string(),
-                        _ => {
-                            let f = wilson(k, n);
-                            format!(",{:.6},{:.6},{:.6}", f.value, f.low, f.high)
-                        }
-                    };
-                }
-                let speed = c.free_speed.map_or(String::new(), |v| format!("{v:.6}"));
-                let label = match (c.verdict, c.label()) {
-                    (Some(v), _) => v.as_str(),
-                    (None, Some(l)) => l.as_str(),
-                    (None, None) => "",
-                };
-                let mut st = String::new();
-                if let Some(a) = standing(i) {
-                    st = format!(",{},{}", a.standing.as_str(), a.n);
-                    let b = a.bounds.as_ref();
-                    for pair in [
-                        b.map(|b| b.train),
-                        b.map(|b| b.walk_past),
-                        b.map(|b| b.reversal),
-                        b.map(|b| b.undetermined),
-                        b.map(|b| b.collision_breakup),
-                        b.map(|b| b.walk_minus_train),
-                    ] {
-                        st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
-                    }
-                }
-                println!("{row},{speed},{label}{st}");
-            }
-        }
-        Format::Json => {
-            let rows: Vec<_> = counts
-                .iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    let n = c.total();
-                    let mut f = serde_json::Map::new();
-                    for (k, name) in fractions(c) {
-                        let w = wilson(k, n);
-                        // (JSON has no NaN: null for a point with no replicate.)
-                        f.insert(
-                            name.into(),
-                            if n == 0 {
-                                json!(null)
-                            } else {
-                                json!({ "value": w.value, "low": w.low, "high": w.high })
-                            },
-                        );
-                    }
-                    let mut row = json!({
-                        "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
-                        "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
-                        "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
-                        "n_breakup": c.n_breakup, "n_collision_breakup": c.n_collision_breakup,
-                        "n": n, "fractions": f,
-                        "free_speed": c.free_speed,
-                        "label": c.label().map(Label::as_str),
-                    });
-                    if let Some(a) = standing(i) {
-                        row["standing"] = json!(a.standing);
-                        row["assessed_n"] = json!(a.n);
-                        row["certain_label"] = json!(a.certain_label);
-                        row["certain_sign"] = json!(a.certain_sign);
-                        row["bounds"] = json!(a.bounds);
-                    }
-                    row
-                })
-                .collect();
-            println!("{}", serde_json::to_string_pretty(&rows)?);
-        }
+        Format::Text => print_text(&counts, standings),
+        Format::Csv => print_csv(&counts, standings),
+        Format::Json => print_json(&counts, standings)?,
     }
+    Ok(())
+}
+
+/// The standing of the `i`-th kept point, for an adaptive sweep.
+fn standing_of(standings: Option<&[Assessment]>, i: usize) -> Option<&Assessment> {
+    standings.map(|s| &s[i])
+}
+
+/// Each diagram's grid, then every point's counts, fractions and label.
+fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
+    let standing = |i| standing_of(standings, i);
+    for (l, sigma) in diagrams(counts) {
+        println!("{}", grid_text(counts, l, sigma));
+    }
+    println!("{LEGEND}\n");
+    println!(
+        "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  label{}",
+        "alpha",
+        "beta",
+        "L",
+        "sigma",
+        "n",
+        "train",
+        "walk_past",
+        "reversal",
+        "undetermined",
+        "broke up",
+        if standings.is_some() {
+            "  standing (adaptive)"
+        } else {
+            ""
+        }
+    );
+    for (i, c) in counts.iter().enumerate() {
+        let n = c.total();
+        let cells: Vec<String> = fractions(c)
+            .iter()
+            .map(|&(k, _)| fraction_cell(k, n))
+            .collect();
+        let st = standing(i).map_or(String::new(), |a| {
+            format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
+        });
+        println!(
+            "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
+            c.alpha,
+            c.beta,
+            c.L,
+            c.sigma,
+            n,
+            cells[0],
+            cells[1],
+            cells[2],
+            cells[3],
+            cells[4],
+            c.label().map_or("-", Label::as_str)
+        );
+    }
+}
+
+/// One CSV row per point (fractions with their Wilson intervals; an adaptive sweep's standing).
+fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
+    let standing = |i| standing_of(standings, i);
+    let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n".to_string();
+    for f in FRACTIONS {
+        header += &format!(",f_{f},f_{f}_low,f_{f}_high");
+    }
+    header += ",free_speed,label";
+    if standings.is_some() {
+        header += ",standing,assessed_n";
+        for f in FRACTIONS {
+            header += &format!(",{f}_lo,{f}_hi");
+        }
+        header += ",walk_minus_train_lo,walk_minus_train_hi";
+    }
+    println!("{header}");
+    for (i, c) in counts.iter().enumerate() {
+        let n = c.total();
+        let mut row = format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            c.alpha,
+            c.beta,
+            c.L,
+            c.sigma,
+            c.n_train,
+            c.n_walk,
+            c.n_reversal,
+            c.n_undetermined,
+            c.n_unstable,
+            c.n_breakup,
+            c.n_collision_breakup,
+            n
+        );
+        for (k, _) in fractions(c) {
+            // (Empty cells for a point with no replicate: no fraction to give.)
+            row += &match n {
+                0 => ",,,".to_string(),
+                _ => {
+                    let f = wilson(k, n);
+                    format!(",{:.6},{:.6},{:.6}", f.value, f.low, f.high)
+                }
+            };
+        }
+        let speed = c.free_speed.map_or(String::new(), |v| format!("{v:.6}"));
+        let label = match (c.verdict, c.label()) {
+            (Some(v), _) => v.as_str(),
+            (None, Some(l)) => l.as_str(),
+            (None, None) => "",
+        };
+        let mut st = String::new();
+        if let Some(a) = standing(i) {
+            st = format!(",{},{}", a.standing.as_str(), a.n);
+            let b = a.bounds.as_ref();
+            for pair in [
+                b.map(|b| b.train),
+                b.map(|b| b.walk_past),
+                b.map(|b| b.reversal),
+                b.map(|b| b.undetermined),
+                b.map(|b| b.collision_breakup),
+                b.map(|b| b.walk_minus_train),
+            ] {
+                st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
+            }
+        }
+        println!("{row},{speed},{label}{st}");
+    }
+}
+
+/// A JSON array of the points.
+fn print_json(counts: &[Counts], standings: Option<&[Assessment]>) -> anyhow::Result<()> {
+    let standing = |i| standing_of(standings, i);
+    let rows: Vec<_> = counts
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let n = c.total();
+            let mut f = serde_json::Map::new();
+            for (k, name) in fractions(c) {
+                let w = wilson(k, n);
+                // (JSON has no NaN: null for a point with no replicate.)
+                f.insert(
+                    name.into(),
+                    if n == 0 {
+                        json!(null)
+                    } else {
+                        json!({ "value": w.value, "low": w.low, "high": w.high })
+                    },
+                );
+            }
+            let mut row = json!({
+                "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
+                "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
+                "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
+                "n_breakup": c.n_breakup, "n_collision_breakup": c.n_collision_breakup,
+                "n": n, "fractions": f,
+                "free_speed": c.free_speed,
+                "label": c.label().map(Label::as_str),
+            });
+            if let Some(a) = standing(i) {
+                row["standing"] = json!(a.standing);
+                row["assessed_n"] = json!(a.n);
+                row["certain_label"] = json!(a.certain_label);
+                row["certain_sign"] = json!(a.certain_sign);
+                row["bounds"] = json!(a.bounds);
+            }
+            row
+        })
+        .collect();
+    println!("{}", serde_json::to_string_pretty(&rows)?);
     Ok(())
 }

@@ -127,7 +127,24 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         sigma: 5.0,
         ..Params::default()
     };
+    let (mut report, check) = kernel_rates(&params);
+    if !args.no_yardstick {
+        add_yardstick(&mut report, &check, &args.python);
+    }
+    if !args.quick {
+        add_trajectory(&mut report, &args, &params)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_text(&report);
+    }
+    Ok(())
+}
 
+/// The step rates of the kernel (single cell, pair in f64 as SPEC and as run, pair in f32),
+/// and the integrals of the pair after ten steps that the yardstick must reproduce.
+fn kernel_rates(params: &Params) -> (Value, Value) {
     // Single-cell step, 200 x 200, motile with noise.
     let lat = Lattice::new(200, 200);
     let fibers = Fibers::new(&params, 200);
@@ -172,7 +189,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let pair = pair_rate(a, b, &plat, &pfib, &noise_free, true);
     let pair_f32 = pair_rate(a32, b32, &plat, &pfib, &noise_free, true);
 
-    let mut report = json!({
+    let report = json!({
         "single_steps_per_s": single,
         "single_site_updates_per_s": single * 40_000.0,
         "pair_steps_per_s": pair,
@@ -182,76 +199,80 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "pair_literal_steps_per_s": pair_literal,
         "threads": 1,
     });
+    (report, check)
+}
 
-    if !args.no_yardstick {
-        match yardstick(&args.python) {
-            Ok(y) => {
-                let np = y["pair_step_s"].as_f64().unwrap_or(f64::NAN);
-                let worst = ["sum_phi_1", "area_1", "area_2", "sum_p_1"]
-                    .iter()
-                    .map(|k| {
-                        let (r, p) = (
-                            check[k].as_f64().unwrap_or(f64::NAN),
-                            y[k].as_f64().unwrap_or(f64::NAN),
-                        );
-                        (r - p).abs() / p.abs().max(1e-300)
-                    })
-                    .fold(0.0, f64::max);
-                report["numpy_pair_step_s"] = np.into();
-                report["numpy_pair_step_mean_s"] = y["pair_step_mean_s"].clone();
-                report["speedup_pair_vs_numpy"] = (np * pair).into();
-                report["speedup_pair_literal_vs_numpy"] = (np * pair_literal).into();
-                report["numpy_agreement_rel"] = worst.into();
-                report["numpy_version"] = y["numpy"].clone();
-            }
-            Err(e) => report["numpy_yardstick"] = format!("skipped: {e}").into(),
+/// The NumPy yardstick's step time and its agreement with `check`, or why it was skipped.
+fn add_yardstick(report: &mut Value, check: &Value, python: &str) {
+    match yardstick(python) {
+        Ok(y) => {
+            let np = y["pair_step_s"].as_f64().unwrap_or(f64::NAN);
+            let worst = ["sum_phi_1", "area_1", "area_2", "sum_p_1"]
+                .iter()
+                .map(|k| {
+                    let (r, p) = (
+                        check[k].as_f64().unwrap_or(f64::NAN),
+                        y[k].as_f64().unwrap_or(f64::NAN),
+                    );
+                    (r - p).abs() / p.abs().max(1e-300)
+                })
+                .fold(0.0, f64::max);
+            report["numpy_pair_step_s"] = np.into();
+            report["numpy_pair_step_mean_s"] = y["pair_step_mean_s"].clone();
+            let rate = |k: &str| report[k].as_f64().unwrap_or(f64::NAN);
+            let (pair, literal) = (rate("pair_steps_per_s"), rate("pair_literal_steps_per_s"));
+            report["speedup_pair_vs_numpy"] = (np * pair).into();
+            report["speedup_pair_literal_vs_numpy"] = (np * literal).into();
+            report["numpy_agreement_rel"] = worst.into();
+            report["numpy_version"] = y["numpy"].clone();
         }
+        Err(e) => report["numpy_yardstick"] = format!("skipped: {e}").into(),
     }
+}
 
-    if !args.quick {
-        let mut config = Config {
-            params: params.clone(),
-            ..Config::default()
-        };
-        args.numerics.apply(&mut config.protocol);
-        let mut clock = StageClock::default();
-        let t = Instant::now();
-        let (result, _, _) = run_trajectory(&config, Seeds::from_run_seed(1), &mut clock, false)?;
-        let total = t.elapsed().as_secs_f64();
-        clock.close();
-        let (relax, free, collide) = (
-            clock.get(Stage::Relax),
-            clock.get(Stage::Free),
-            clock.get(Stage::Collide),
-        );
-        let collision_rate = result.collision_steps as f64 / collide;
-        report["trajectory"] = json!({
-            "alpha": 0.1, "beta": 14.0, "L": 90, "sigma": 5.0, "seed": 1,
-            "outcome": result.outcome, "collision_steps": result.collision_steps,
-            "relax_s": relax, "free_s": free, "collide_s": collide, "total_s": total,
-            "collision_steps_per_s": collision_rate,
-            "patch_bound": args.numerics.patch_bound, "patch": result.patch,
-            "precision": args.numerics.precision.as_str(),
-        });
-        report["trajectory_s"] = (collide + (relax + free) / 96.0).into();
-        report["collision_steps_per_s"] = collision_rate.into();
-        // The collision stage's rate is a mean over seconds of a shared machine, so it is set
-        // against the yardstick's mean step, timed once before the trajectory and once after.
-        if let Some(before) = report["numpy_pair_step_mean_s"].as_f64() {
-            let after = yardstick(&args.python)
-                .ok()
-                .and_then(|y| y["pair_step_mean_s"].as_f64());
-            let np = after.map_or(before, |a| (before + a) / 2.0);
-            report["numpy_pair_step_mean_around_trajectory_s"] = np.into();
-            report["speedup_collision_vs_numpy"] = (np * collision_rate).into();
-        }
+/// One whole trajectory at the benchmark's point, timed stage by stage.
+fn add_trajectory(report: &mut Value, args: &BenchArgs, params: &Params) -> anyhow::Result<()> {
+    let mut config = Config {
+        params: params.clone(),
+        ..Config::default()
+    };
+    args.numerics.apply(&mut config.protocol);
+    let mut clock = StageClock::default();
+    let t = Instant::now();
+    let (result, _, _) = run_trajectory(&config, Seeds::from_run_seed(1), &mut clock, false)?;
+    let total = t.elapsed().as_secs_f64();
+    clock.close();
+    let (relax, free, collide) = (
+        clock.get(Stage::Relax),
+        clock.get(Stage::Free),
+        clock.get(Stage::Collide),
+    );
+    let collision_rate = result.collision_steps as f64 / collide;
+    report["trajectory"] = json!({
+        "alpha": 0.1, "beta": 14.0, "L": 90, "sigma": 5.0, "seed": 1,
+        "outcome": result.outcome, "collision_steps": result.collision_steps,
+        "relax_s": relax, "free_s": free, "collide_s": collide, "total_s": total,
+        "collision_steps_per_s": collision_rate,
+        "patch_bound": args.numerics.patch_bound, "patch": result.patch,
+        "precision": args.numerics.precision.as_str(),
+    });
+    report["trajectory_s"] = (collide + (relax + free) / 96.0).into();
+    report["collision_steps_per_s"] = collision_rate.into();
+    // The collision stage's rate is a mean over seconds of a shared machine, so it is set
+    // against the yardstick's mean step, timed once before the trajectory and once after.
+    if let Some(before) = report["numpy_pair_step_mean_s"].as_f64() {
+        let after = yardstick(&args.python)
+            .ok()
+            .and_then(|y| y["pair_step_mean_s"].as_f64());
+        let np = after.map_or(before, |a| (before + a) / 2.0);
+        report["numpy_pair_step_mean_around_trajectory_s"] = np.into();
+        report["speedup_collision_vs_numpy"] = (np * collision_rate).into();
     }
+    Ok(())
+}
 
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-        return Ok(());
-    }
-    let r = &report;
+/// The report as a few aligned lines.
+fn print_text(r: &Value) {
     let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
     println!("one core, float64:");
     println!(
@@ -312,5 +333,4 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             f("trajectory_s")
         );
     }
-    Ok(())
 }

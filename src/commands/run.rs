@@ -1,5 +1,6 @@
 //! `cellsweep run`: register a sweep and run (or resume) it with local worker processes.
 
+use std::path::Path;
 use std::time::Duration;
 
 use anyhow::Context;
@@ -8,7 +9,7 @@ use cellsweep_scheduler::{
 };
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_stats::Standing;
-use cellsweep_store::Store;
+use cellsweep_store::{NewSweep, Registration, Store};
 
 use cellsweep_report::text;
 
@@ -26,12 +27,59 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         return Ok(0);
     }
     let new = plan(&sweep, &args.sweep.display().to_string());
-    let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
     // One writer per store: a second run (or submit, collect, import) is refused here.
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     store.check_integrity()?;
     let reg = store.register(&new, args.replace)?;
+    announce(&sweep, &new, &reg, &args.db.db);
+
+    if args.retry_failed {
+        let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
+        println!("retrying {n} failed jobs and preps");
+    }
+    // A finished sweep (an adaptive one with no round to add): say so and run nothing.
+    if !reg.created && reg.grown_from.is_none() {
+        if let Some(failed) = finished_already(&mut store, reg.sweep_id, &sweep.name)? {
+            summarize(&args, &store, reg.sweep_id, &sweep, false)?;
+            return Ok(failed_exit(failed, &sweep.name, "run"));
+        }
+    }
+    let opts = run_options(&args, &sweep, workers)?;
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")?;
+    let mut bar = SweepBar::new();
+    crate::on_broken_pipe(crate::OnBrokenPipe::Fail);
+    let report = runtime.block_on(run_sweep(
+        &mut store,
+        reg.sweep_id,
+        SOLVER_VERSION,
+        opts,
+        &mut bar,
+    ));
+    bar.finish();
+    // The jobs are settled: from here a closed pipe may end the process quietly.
+    crate::on_broken_pipe(crate::OnBrokenPipe::Die);
+    let report = report.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
+
+    summarize(
+        &args,
+        &store,
+        reg.sweep_id,
+        &sweep,
+        report.ending == Ending::Interrupted,
+    )?;
+    Ok(match report.ending {
+        Ending::Interrupted => 130,
+        Ending::Finished => failed_exit(report.progress.failed, &sweep.name, "run"),
+    })
+}
+
+/// What registration did, and the sweep's shape, in a few lines.
+fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
+    let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
     if let Some(old) = &reg.archived_as {
         println!(
             "the previous sweep {:?} keeps its results as {old:?}",
@@ -71,7 +119,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         "{verb} sweep {:?}: {shape}, {} preps, in {}",
         sweep.name,
         new.preps.len(),
-        args.db.db.display()
+        db.display()
     );
     if let Some(a) = &sweep.adaptive {
         println!(
@@ -86,39 +134,40 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
              new replicates run (a replicate's seed depends on its index, not on the count)"
         );
     }
+}
 
-    if args.retry_failed {
-        let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
-        println!("retrying {n} failed jobs and preps");
-    }
-    // A finished sweep (an adaptive one with no round to add): say so and run nothing.
-    if !reg.created && reg.grown_from.is_none() {
-        Ledger::load(&store, reg.sweep_id, SOLVER_VERSION)?.plan_rounds(&mut store)?;
-        let st = store
-            .status()?
-            .into_iter()
-            .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION);
-        if let Some(s) =
-            st.filter(|s| s.jobs.pending + s.jobs.running == 0 && s.preps_done == s.preps_total)
-        {
-            let failed = if s.jobs.failed > 0 {
-                format!(
-                    " ({} failed: `cellsweep run --retry-failed` runs them again)",
-                    s.jobs.failed
-                )
-            } else {
-                String::new()
-            };
-            println!(
-                "{} of {} jobs done{failed}, nothing to run",
-                s.jobs.done,
-                s.jobs.total()
-            );
-            summarize(&args, &store, reg.sweep_id, &sweep, false)?;
-            return Ok(failed_exit(s.jobs.failed as u64, &sweep.name, "run"));
-        }
-    }
-    let opts = RunOptions {
+/// For a sweep that is already registered: the number of failed jobs if it has nothing left
+/// to run (after planning any adaptive round it is owed), else None.
+fn finished_already(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result<Option<u64>> {
+    Ledger::load(store, sweep_id, SOLVER_VERSION)?.plan_rounds(store)?;
+    let st = store
+        .status()?
+        .into_iter()
+        .find(|s| s.sweep == name && s.solver_version == SOLVER_VERSION);
+    let Some(s) =
+        st.filter(|s| s.jobs.pending + s.jobs.running == 0 && s.preps_done == s.preps_total)
+    else {
+        return Ok(None);
+    };
+    let failed = if s.jobs.failed > 0 {
+        format!(
+            " ({} failed: `cellsweep run --retry-failed` runs them again)",
+            s.jobs.failed
+        )
+    } else {
+        String::new()
+    };
+    println!(
+        "{} of {} jobs done{failed}, nothing to run",
+        s.jobs.done,
+        s.jobs.total()
+    );
+    Ok(Some(s.jobs.failed as u64))
+}
+
+/// The local engine's options: the flags, else the sweep file's `[run]`.
+fn run_options(args: &RunArgs, sweep: &Sweep, workers: usize) -> anyhow::Result<RunOptions> {
+    Ok(RunOptions {
         workers,
         job_timeout: Duration::from_secs_f64(
             // Both checked to lie in (0, 30 days] by the flag's parser and the sweep file's.
@@ -130,35 +179,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
             args: vec!["worker".into()],
         },
         grace: Duration::from_secs_f64(args.grace),
-    };
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .context("cannot start the async runtime")?;
-    let mut bar = SweepBar::new();
-    crate::on_broken_pipe(crate::OnBrokenPipe::Fail);
-    let report = runtime.block_on(run_sweep(
-        &mut store,
-        reg.sweep_id,
-        SOLVER_VERSION,
-        opts,
-        &mut bar,
-    ));
-    bar.finish();
-    // The jobs are settled: from here a closed pipe may end the process quietly.
-    crate::on_broken_pipe(crate::OnBrokenPipe::Die);
-    let report = report.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
-
-    summarize(
-        &args,
-        &store,
-        reg.sweep_id,
-        &sweep,
-        report.ending == Ending::Interrupted,
-    )?;
-    Ok(match report.ending {
-        Ending::Interrupted => 130,
-        Ending::Finished => failed_exit(report.progress.failed, &sweep.name, "run"),
     })
 }
 

@@ -61,6 +61,48 @@ pub fn figure(s: &Snapshot) -> Figure {
     if !s.note.is_empty() {
         fig.text(LEFT, 38.0, 12.0, Anchor::Start, s.note.clone());
     }
+    let (cells, polarity, pmax, signed) = pixels(s);
+    let panels = [
+        (
+            TOP,
+            cells,
+            "(a) φ_1 (red), φ_2 (blue); black: φ = 1/2; grey: fibers",
+        ),
+        (
+            TOP + h + GAP,
+            polarity,
+            "(b) polarity weighted by the cell, P_1 φ_1 + P_2 φ_2",
+        ),
+    ];
+    for (y, rgb, label) in panels {
+        fig.push(Shape::Image {
+            x: LEFT,
+            y,
+            w,
+            h,
+            cols: s.nx,
+            rows: s.ny,
+            rgb,
+        });
+        fig.push(Shape::Rect {
+            x: LEFT,
+            y,
+            w,
+            h,
+            fill: None,
+            stroke: Some(Color::BLACK),
+        });
+        fig.text(LEFT, y + h + 14.0, 11.0, Anchor::Start, label);
+    }
+    scale_bar(&mut fig, h);
+    colour_bar(&mut fig, (LEFT + w + 14.0, TOP + h + GAP, h), pmax, signed);
+    fig
+}
+
+/// The pixels of both panels, rows from the top: (a) the cells' colours with their contours
+/// and the fibers, (b) P phi in colour; with the largest |P phi| and whether it takes negative
+/// values worth a diverging scale.
+fn pixels(s: &Snapshot) -> (Vec<Color>, Vec<Color>, f64, bool) {
     let is_fiber = |j: usize| s.fiber_rows.contains(&j);
     let weighted = |k: usize| s.p[0][k] * s.phi[0][k] + s.p[1][k] * s.phi[1][k];
     let pmax = (0..s.nx * s.ny)
@@ -106,39 +148,11 @@ pub fn figure(s: &Snapshot) -> Figure {
             polarity.push(q);
         }
     }
-    let panels = [
-        (
-            TOP,
-            cells,
-            "(a) φ_1 (red), φ_2 (blue); black: φ = 1/2; grey: fibers",
-        ),
-        (
-            TOP + h + GAP,
-            polarity,
-            "(b) polarity weighted by the cell, P_1 φ_1 + P_2 φ_2",
-        ),
-    ];
-    for (y, rgb, label) in panels {
-        fig.push(Shape::Image {
-            x: LEFT,
-            y,
-            w,
-            h,
-            cols: s.nx,
-            rows: s.ny,
-            rgb,
-        });
-        fig.push(Shape::Rect {
-            x: LEFT,
-            y,
-            w,
-            h,
-            fill: None,
-            stroke: Some(Color::BLACK),
-        });
-        fig.text(LEFT, y + h + 14.0, 11.0, Anchor::Start, label);
-    }
-    // Scale bar: 10 um in the lower left of panel (a).
+    (cells, polarity, pmax, signed)
+}
+
+/// A 10 um scale bar in the lower left of panel (a), `h` high.
+fn scale_bar(fig: &mut Figure, h: f64) {
     let bar = 10.0 / SITE_UM;
     let (bx, by) = (LEFT + 8.0, TOP + h - 10.0);
     fig.push(Shape::Rect {
@@ -151,8 +165,10 @@ pub fn figure(s: &Snapshot) -> Figure {
     });
     fig.line(bx, by, bx + bar, by, Color::BLACK, 3.0);
     fig.text(bx + bar / 2.0, by - 5.0, 11.0, Anchor::Middle, "10 µm");
-    // Colour bar of panel (b).
-    let (cx, cy, ch) = (LEFT + w + 14.0, TOP + h + GAP, h);
+}
+
+/// The colour bar of panel (b) at (cx, cy), `ch` high, from -pmax (if signed) or 0 to pmax.
+fn colour_bar(fig: &mut Figure, (cx, cy, ch): (f64, f64, f64), pmax: f64, signed: bool) {
     let steps = 60;
     let low = if signed { -1.0 } else { 0.0 };
     for k in 0..steps {
@@ -185,5 +201,4 @@ pub fn figure(s: &Snapshot) -> Figure {
         fig.text(cx + 19.0, y + 4.0, 11.0, Anchor::Start, format!("{v:.2}"));
     }
     fig.text(cx, cy - 6.0, 11.0, Anchor::Start, "Pφ");
-    fig
 }

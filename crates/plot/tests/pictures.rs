@@ -1,7 +1,8 @@
 //! The pictures are valid SVG, PNG and GIF files with the expected elements.
 
 use cellsweep_plot::frames::{figure, Snapshot};
-use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Mark, Point};
+use cellsweep_plot::mark::Mark;
+use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::{gif, Color};
 
 fn diagram() -> Diagram {

@@ -1,7 +1,9 @@
 //! Counts into drawings: one (L, sigma) phase diagram with its four panels, and the free speed
 //! against beta. `cellsweep plot` writes them as files, `cellsweep report` inline.
 
-use cellsweep_plot::phase::{diagram_figure, speed_figure, BetaLine, Diagram, Mark, Point, Series};
+use cellsweep_plot::mark::Mark;
+use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
+use cellsweep_plot::speed::{speed_figure, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
 use cellsweep_stats::{wilson, Assessment, Counts, Fit, Label, Scales, Standing};

@@ -147,18 +147,18 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
 fn kernel_rates(params: &Params) -> (Value, Value) {
     // Single-cell step, 200 x 200, motile with noise.
     let lat = Lattice::new(200, 200);
-    let fibers = Fibers::new(&params, 200);
-    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, &params), lat.zeros());
+    let fibers = Fibers::new(params, 200);
+    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
     kick(&lat, &mut cell);
     for _ in 0..200 {
-        cell.step(&lat, &fibers, &params, [0.05, -0.03], true, false);
+        cell.step(&lat, &fibers, params, [0.05, -0.03], true, false);
     }
     let single = best_rate(600, || {
-        cell.step(&lat, &fibers, &params, [0.05, -0.03], true, false)
+        cell.step(&lat, &fibers, params, [0.05, -0.03], true, false)
     });
 
     // Two-cell step, 400 x 200, one thread.
-    let (plat, pfib, mut a, mut b) = pair_start(&params);
+    let (plat, pfib, mut a, mut b) = pair_start(params);
     let mut noise_free = params.clone();
     noise_free.v0 = 0.0;
     for _ in 0..10 {

@@ -1,0 +1,163 @@
+//! Flags of the commands that read results: `status`, `table`, `fit`, `compare`, `plot`,
+//! `report`, `export` and `import`, and where they read counts from.
+
+use clap::Args;
+
+use super::DbArgs;
+
+#[derive(Debug, Args)]
+pub struct StatusArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// List every failed job and prep with its error.
+    #[arg(long)]
+    pub failed: bool,
+}
+
+/// Where outcome counts come from: a store, or a counts file.
+#[derive(Debug, Args)]
+pub struct CountsSource {
+    /// SQLite database of results.
+    #[arg(
+        long,
+        default_value = "cellsweep.sqlite",
+        value_name = "PATH",
+        conflicts_with = "counts"
+    )]
+    pub db: std::path::PathBuf,
+    /// The sweep to read (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// Read counts from a CSV file instead of a store: columns alpha, beta, L, sigma, n_train,
+    /// n_walk, n_reversal, n_undetermined, and optionally label (unstable / breakup).
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "data")]
+    pub counts: Option<std::path::PathBuf>,
+    /// Read the results of a `cellsweep export` file instead of a store (e.g.
+    /// data/paper/adaptive-L90-sigma5.csv): no store, no recomputation.
+    #[arg(long, value_name = "EXPORT.csv", conflicts_with_all = ["db", "sweep"])]
+    pub data: Option<std::path::PathBuf>,
+}
+
+impl CountsSource {
+    /// The results these flags name: an export file, a counts file, or a store.
+    pub fn load(&self) -> Result<cellsweep_report::Results, cellsweep_report::load::LoadError> {
+        use cellsweep_report::load;
+        match (&self.data, &self.counts) {
+            (Some(path), _) => load::from_export(path),
+            (None, Some(path)) => load::from_counts_csv(path),
+            (None, None) => load::from_store(&self.db, self.sweep.as_deref()),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    Text,
+    Csv,
+    Json,
+}
+
+/// What `fit` prints: a fit has no table to give as CSV.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FitFormat {
+    Text,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct TableArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// Only this fiber spacing.
+    #[arg(long = "L")]
+    pub spacing: Option<u32>,
+    /// Only this adhesion.
+    #[arg(long)]
+    pub sigma: Option<f64>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+}
+
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// text or json.
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: FitFormat,
+    /// Bootstrap resamples for the 95% intervals.
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub bootstrap: u32,
+    /// Seed of the bootstrap.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The first sweep (A), by name.
+    pub a: String,
+    /// The second sweep (B), by name (the same name as A to compare two solver versions).
+    pub b: String,
+    /// The store of A (and of B, unless --db-b is given).
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// The store of B, when it is not A's.
+    #[arg(long = "db-b", value_name = "PATH")]
+    pub db_b: Option<std::path::PathBuf>,
+    /// Solver version of A's results (default: this build's).
+    #[arg(long = "version-a", value_name = "VERSION")]
+    pub version_a: Option<String>,
+    /// Solver version of B's results (default: this build's).
+    #[arg(long = "version-b", value_name = "VERSION")]
+    pub version_b: Option<String>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+}
+
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    #[command(flatten)]
+    pub source: CountsSource,
+    /// Folder for the pictures (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["db", "data"])))]
+pub struct ReportArgs {
+    /// A store: every sweep in it.
+    #[arg(long, value_name = "PATH")]
+    pub db: Option<std::path::PathBuf>,
+    /// A folder of `cellsweep export` files (every *.csv in it, e.g. data/paper): no store,
+    /// no recomputation.
+    #[arg(long, value_name = "DIR")]
+    pub data: Option<std::path::PathBuf>,
+    /// The HTML file to write.
+    #[arg(long, value_name = "FILE.html")]
+    pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// The sweep to export (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// The CSV file to write (replaced atomically).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct ImportArgs {
+    /// A file written by `cellsweep export`.
+    pub file: std::path::PathBuf,
+    #[command(flatten)]
+    pub db: DbArgs,
+}

@@ -77,27 +77,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
                 sweep.name
             );
         };
-        let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
-            invalid!(
-                "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
-                 result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
-                 other verdicts have none)",
-                source,
-                r.replicate,
-                r.alpha,
-                r.beta,
-                r.verdict,
-                r.outcome.as_deref().unwrap_or("")
-            );
-        };
-        let k = r.replicate;
-        if k >= sweep.replicates {
-            invalid!(
-                "{}: replicate {k} is beyond the sweep's {} per point",
-                source,
-                sweep.replicates
-            );
-        }
+        let (k, end) = replicate_end(source, sweep, r)?;
         if !ends[i].record(k, end) {
             invalid!(
                 "{}: replicate {k} at alpha = {}, beta = {} appears twice",
@@ -112,19 +92,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
             }
         }
     }
-    let counts = ends
-        .iter()
-        .zip(&speeds)
-        .map(|(p, preps)| {
-            let speed = (!preps.is_empty())
-                .then(|| preps.iter().map(|s| s.1).sum::<f64>() / preps.len() as f64);
-            // Every finished replicate (an export of a running sweep may have gaps).
-            Counts {
-                free_speed: speed,
-                ..p.counts(p.ends.len() as u32)
-            }
-        })
-        .collect();
+    let counts = counts_of(&ends, &speeds);
     let standings = sweep
         .adaptive
         .map(|rule| assess(&ends, &rule, kinds(sweep.preps_per_point)));
@@ -144,6 +112,48 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
         ),
         provenance: Some(provenance(source, sweep, rows)),
     })
+}
+
+/// The replicate index of an export row and its end, checked against the sweep.
+fn replicate_end(source: &str, sweep: &Sweep, r: &ExportRow) -> Result<(u32, End), LoadError> {
+    let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
+        invalid!(
+            "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
+             result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
+             other verdicts have none)",
+            source,
+            r.replicate,
+            r.alpha,
+            r.beta,
+            r.verdict,
+            r.outcome.as_deref().unwrap_or("")
+        );
+    };
+    let k = r.replicate;
+    if k >= sweep.replicates {
+        invalid!(
+            "{}: replicate {k} is beyond the sweep's {} per point",
+            source,
+            sweep.replicates
+        );
+    }
+    Ok((k, end))
+}
+
+/// Each point's counts over every finished replicate (an export of a running sweep may have
+/// gaps), with the mean free speed of its distinct preps.
+fn counts_of(ends: &[PointEnds], speeds: &[Vec<(u64, f64)>]) -> Vec<Counts> {
+    ends.iter()
+        .zip(speeds)
+        .map(|(p, preps)| {
+            let speed = (!preps.is_empty())
+                .then(|| preps.iter().map(|s| s.1).sum::<f64>() / preps.len() as f64);
+            Counts {
+                free_speed: speed,
+                ..p.counts(p.ends.len() as u32)
+            }
+        })
+        .collect()
 }
 
 /// What the sweep is and what its finished rows cost (each prep's time counted once).
@@ -204,7 +214,7 @@ const MAX_COUNT: u64 = 1_000_000_000;
 /// columns (any order, extra columns ignored), lines starting with `#` skipped. Every value is
 /// checked: finite axes in range, whole counts below [`MAX_COUNT`], each point once.
 fn read_csv(path: &Path) -> Result<Vec<Counts>, LoadError> {
-    let file = path.display();
+    let file = path.display().to_string();
     let bytes =
         std::fs::read(path).map_err(|e| LoadError::Invalid(format!("cannot read {file}: {e}")))?;
     let text = String::from_utf8(bytes)
@@ -215,17 +225,56 @@ fn read_csv(path: &Path) -> Result<Vec<Counts>, LoadError> {
         .trim(csv::Trim::All)
         .flexible(true)
         .from_reader(text.as_bytes());
-    let cols: Vec<String> = reader
+    let names: Vec<String> = reader
         .headers()
         .map_err(|e| LoadError::Invalid(format!("{file}: line 1: {e}")))?
         .iter()
         .map(String::from)
         .collect();
-    if cols.iter().all(|c| c.is_empty()) {
+    if names.iter().all(|c| c.is_empty()) {
         invalid!("{file}: empty file");
     }
-    let find = |name: &str| cols.iter().position(|c| c == name);
-    let required = [
+    let cols = CountsColumns::find(&names, &file)?;
+    let mut out: Vec<Counts> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| LoadError::Invalid(format!("{file}: {e}")))?;
+        let row = CsvRow {
+            file: &file,
+            line: record.position().map_or(0, |p| p.line()),
+            names: &names,
+            record: &record,
+        };
+        let c = cols.counts(&row)?;
+        // (+ 0.0 makes -0 and 0 one point, as == does.)
+        let key = [c.alpha + 0.0, c.beta + 0.0, c.L as f64, c.sigma + 0.0].map(f64::to_bits);
+        if !seen.insert(key) {
+            invalid!(
+                "{file}: line {}: the point alpha = {}, beta = {}, L = {}, sigma = {} appears twice",
+                row.line, c.alpha, c.beta, c.L, c.sigma
+            );
+        }
+        out.push(c);
+    }
+    if out.is_empty() {
+        invalid!("{file}: no data rows");
+    }
+    Ok(out)
+}
+
+/// Where a counts file keeps each of its columns: the eight it must have, and the optional
+/// label, prep and breakup counts and free speed.
+struct CountsColumns {
+    required: [usize; 8],
+    label: Option<usize>,
+    unstable: Option<usize>,
+    breakup: Option<usize>,
+    collision_breakup: Option<usize>,
+    free_speed: Option<usize>,
+}
+
+impl CountsColumns {
+    const REQUIRED: [&'static str; 8] = [
         "alpha",
         "beta",
         "L",
@@ -235,101 +284,101 @@ fn read_csv(path: &Path) -> Result<Vec<Counts>, LoadError> {
         "n_reversal",
         "n_undetermined",
     ];
-    let mut idx = Vec::new();
-    for r in required {
-        idx.push(
-            find(r).ok_or_else(|| {
+
+    fn find(names: &[String], file: &str) -> Result<Self, LoadError> {
+        let find = |name: &str| names.iter().position(|c| c == name);
+        let mut required = [0; 8];
+        for (slot, r) in required.iter_mut().zip(Self::REQUIRED) {
+            *slot = find(r).ok_or_else(|| {
                 LoadError::Invalid(format!("{file}: line 1: missing column {r:?}"))
-            })?,
-        );
-    }
-    let (label_col, unstable_col, breakup_col, split_col, speed_col) = (
-        find("label"),
-        find("n_unstable"),
-        find("n_breakup"),
-        find("n_collision_breakup"),
-        find("free_speed"),
-    );
-    let mut out: Vec<Counts> = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| LoadError::Invalid(format!("{file}: {e}")))?;
-        let n = record.position().map_or(0, |p| p.line());
-        let cell = |c: usize| record.get(c).unwrap_or("");
-        let num = |c: usize, lo: f64, hi: f64| -> Result<f64, LoadError> {
-            match cell(c).parse::<f64>() {
-                Ok(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
-                Ok(_) => invalid!(
-                    "{file}: line {n}: {} = {:?} is outside [{lo}, {hi}]",
-                    cols[c],
-                    cell(c)
-                ),
-                Err(_) => invalid!(
-                    "{file}: line {n}: {} = {:?} is not a number",
-                    cols[c],
-                    cell(c)
-                ),
-            }
-        };
-        let count = |c: usize| -> Result<u64, LoadError> {
-            match cell(c).parse::<u64>() {
-                Ok(k) if k <= MAX_COUNT => Ok(k),
-                Ok(_) => invalid!(
-                    "{file}: line {n}: {} = {:?} is more than {MAX_COUNT}",
-                    cols[c],
-                    cell(c)
-                ),
-                Err(_) => invalid!(
-                    "{file}: line {n}: {} = {:?} is not a count",
-                    cols[c],
-                    cell(c)
-                ),
-            }
-        };
-        let opt_count = |c: Option<usize>| -> Result<u64, LoadError> {
-            c.filter(|&c| !cell(c).is_empty()).map_or(Ok(0), count)
-        };
-        let l = num(idx[2], 0.0, 4096.0)?;
-        if l.fract() != 0.0 {
-            invalid!("{file}: line {n}: L = {l} is not a whole number");
+            })?;
         }
-        let verdict = match label_col.map(cell).unwrap_or("") {
+        Ok(CountsColumns {
+            required,
+            label: find("label"),
+            unstable: find("n_unstable"),
+            breakup: find("n_breakup"),
+            collision_breakup: find("n_collision_breakup"),
+            free_speed: find("free_speed"),
+        })
+    }
+
+    /// One data row as a point's counts, every cell checked.
+    fn counts(&self, row: &CsvRow) -> Result<Counts, LoadError> {
+        let idx = &self.required;
+        let l = row.number(idx[2], 0.0, 4096.0)?;
+        if l.fract() != 0.0 {
+            invalid!(
+                "{}: line {}: L = {l} is not a whole number",
+                row.file,
+                row.line
+            );
+        }
+        let verdict = match self.label.map(|c| row.cell(c)).unwrap_or("") {
             "" => None,
             s => match Label::parse(s) {
                 Some(v @ (Label::Unstable | Label::Breakup)) => Some(v),
                 Some(_) => None, // outcome labels are recomputed from the counts
-                None => invalid!("{file}: line {n}: unknown label {s:?}"),
+                None => invalid!("{}: line {}: unknown label {s:?}", row.file, row.line),
             },
         };
-        let c = Counts {
-            alpha: num(idx[0], 0.0, 100.0)?,
-            beta: num(idx[1], -1e6, 1e6)?,
+        Ok(Counts {
+            alpha: row.number(idx[0], 0.0, 100.0)?,
+            beta: row.number(idx[1], -1e6, 1e6)?,
             L: l as u32,
-            sigma: num(idx[3], 0.0, 1e6)?,
-            n_train: count(idx[4])?,
-            n_walk: count(idx[5])?,
-            n_reversal: count(idx[6])?,
-            n_undetermined: count(idx[7])?,
-            n_unstable: opt_count(unstable_col)?,
-            n_breakup: opt_count(breakup_col)?,
-            n_collision_breakup: opt_count(split_col)?,
+            sigma: row.number(idx[3], 0.0, 1e6)?,
+            n_train: row.count(idx[4])?,
+            n_walk: row.count(idx[5])?,
+            n_reversal: row.count(idx[6])?,
+            n_undetermined: row.count(idx[7])?,
+            n_unstable: row.optional_count(self.unstable)?,
+            n_breakup: row.optional_count(self.breakup)?,
+            n_collision_breakup: row.optional_count(self.collision_breakup)?,
             verdict,
-            free_speed: speed_col
-                .and_then(|c| cell(c).parse().ok())
+            free_speed: self
+                .free_speed
+                .and_then(|c| row.cell(c).parse().ok())
                 .filter(|x: &f64| x.is_finite()),
-        };
-        if out
-            .iter()
-            .any(|o| (o.alpha, o.beta, o.L, o.sigma) == (c.alpha, c.beta, c.L, c.sigma))
-        {
-            invalid!(
-                "{file}: line {n}: the point alpha = {}, beta = {}, L = {}, sigma = {} appears twice",
-                c.alpha, c.beta, c.L, c.sigma
-            );
+        })
+    }
+}
+
+/// One data row of a counts file, with what its errors must name.
+struct CsvRow<'a> {
+    file: &'a str,
+    line: u64,
+    names: &'a [String],
+    record: &'a csv::StringRecord,
+}
+
+impl CsvRow<'_> {
+    fn cell(&self, c: usize) -> &str {
+        self.record.get(c).unwrap_or("")
+    }
+
+    /// Column c as a finite number in [lo, hi].
+    fn number(&self, c: usize, lo: f64, hi: f64) -> Result<f64, LoadError> {
+        let (file, n, name, cell) = (self.file, self.line, &self.names[c], self.cell(c));
+        match cell.parse::<f64>() {
+            Ok(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
+            Ok(_) => invalid!("{file}: line {n}: {name} = {cell:?} is outside [{lo}, {hi}]"),
+            Err(_) => invalid!("{file}: line {n}: {name} = {cell:?} is not a number"),
         }
-        out.push(c);
     }
-    if out.is_empty() {
-        invalid!("{file}: no data rows");
+
+    /// Column c as a count up to MAX_COUNT.
+    fn count(&self, c: usize) -> Result<u64, LoadError> {
+        let (file, n, name, cell) = (self.file, self.line, &self.names[c], self.cell(c));
+        match cell.parse::<u64>() {
+            Ok(k) if k <= MAX_COUNT => Ok(k),
+            Ok(_) => invalid!("{file}: line {n}: {name} = {cell:?} is more than {MAX_COUNT}"),
+            Err(_) => invalid!("{file}: line {n}: {name} = {cell:?} is not a count"),
+        }
     }
-    Ok(out)
+
+    /// An optional count column: 0 where the column or its cell is missing.
+    fn optional_count(&self, c: Option<usize>) -> Result<u64, LoadError> {
+        c.filter(|&c| !self.cell(c).is_empty())
+            .map_or(Ok(0), |c| self.count(c))
+    }
 }

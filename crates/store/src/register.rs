@@ -67,132 +67,179 @@ impl Store {
     /// `replace`, which renames the old sweep (its results stay) and registers the new one.
     pub fn register(&mut self, sweep: &NewSweep, replace: bool) -> Result<Registration> {
         let tx = self.write()?;
-        let existing: Option<(i64, String)> = tx
-            .query_row(
-                "SELECT id, spec FROM sweeps WHERE name = ?1",
-                [&sweep.name],
-                |r| Ok((r.get(0)?, r.get(1)?)),
-            )
-            .optional()?;
-        let mut archived_as = None;
-        let mut grown_from = None;
-        let (sweep_id, created) = match existing {
-            None => (insert_sweep(&tx, sweep)?, true),
-            Some((id, spec)) => match spec_change(&spec, &sweep.spec) {
-                SpecChange::Same => (id, false),
-                SpecChange::Retuned => {
-                    tx.execute(
-                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
-                        params![sweep.spec, sweep.source, id],
-                    )?;
-                    (id, false)
-                }
-                SpecChange::Grows { from } => {
-                    // Replicate r's seed and prep do not depend on how many replicates there
-                    // are: the stored jobs are the first `from` of the grown sweep, and the
-                    // loop below adds the others.
-                    tx.execute(
-                        "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
-                        params![sweep.spec, sweep.source, id],
-                    )?;
-                    grown_from = Some(from);
-                    (id, false)
-                }
-                change if !replace => {
-                    let name = sweep.name.clone();
-                    return Err(match change {
-                        SpecChange::Shrinks { from, to } => StoreError::SweepShrinks {
-                            name,
-                            stored: from,
-                            asked: to,
-                        },
-                        _ => StoreError::SweepConflict {
-                            archived: format!("{name}@{id}"),
-                            differs: spec_differences(&spec, &sweep.spec),
-                            name,
-                        },
-                    });
-                }
-                _ => {
-                    let archived = format!("{}@{}", sweep.name, id);
-                    tx.execute(
-                        "UPDATE sweeps SET name = ?1 WHERE id = ?2",
-                        params![archived, id],
-                    )?;
-                    archived_as = Some(archived);
-                    (insert_sweep(&tx, sweep)?, true)
-                }
-            },
-        };
-        if created {
-            for (idx, pt) in sweep.points.iter().enumerate() {
-                tx.execute(
-                    "INSERT INTO points (sweep_id, idx, alpha, beta, L, sigma, params)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
-                    params![
-                        sweep_id, idx as i64, pt.alpha, pt.beta, pt.spacing, pt.sigma, pt.config
-                    ],
-                )?;
-            }
+        let row = sweep_row(&tx, sweep, replace)?;
+        if row.created {
+            insert_points(&tx, row.sweep_id, sweep)?;
         }
-        let mut prep_ids = Vec::with_capacity(sweep.preps.len());
-        for prep in &sweep.preps {
-            tx.execute(
-                "INSERT OR IGNORE INTO preps (key, seed, solver_version, config, state)
-                 VALUES (?1, ?2, ?3, ?4, 'pending')",
-                params![
-                    prep.key,
-                    seed_to_sql(prep.seed),
-                    sweep.solver_version,
-                    prep.config
-                ],
-            )?;
-            prep_ids.push(tx.query_row(
-                "SELECT id FROM preps WHERE key = ?1 AND seed = ?2 AND solver_version = ?3",
-                params![prep.key, seed_to_sql(prep.seed), sweep.solver_version],
-                |r| r.get::<_, i64>(0),
-            )?);
-        }
-        {
-            let mut point_id =
-                tx.prepare("SELECT id FROM points WHERE sweep_id = ?1 AND idx = ?2")?;
-            let mut insert = tx.prepare(
-                "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
-                 VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
-            )?;
-            for (idx, pt) in sweep.points.iter().enumerate() {
-                let pid: i64 = point_id.query_row(params![sweep_id, idx as i64], |r| r.get(0))?;
-                for job in &pt.jobs {
-                    insert.execute(params![
-                        pid,
-                        job.replicate,
-                        sweep.solver_version,
-                        prep_ids[job.prep],
-                        seed_to_sql(job.seed)
-                    ])?;
-                }
-            }
-        }
-        let other_versions = {
-            let mut q = tx.prepare(
-                "SELECT j.solver_version, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1 AND j.solver_version != ?2 AND j.state = 'done'
-                 GROUP BY j.solver_version ORDER BY j.solver_version",
-            )?;
-            let rows = q.query_map(params![sweep_id, sweep.solver_version], |r| {
-                Ok((r.get(0)?, r.get(1)?))
-            })?;
-            rows.collect::<rusqlite::Result<Vec<_>>>()?
-        };
+        let prep_ids = insert_preps(&tx, sweep)?;
+        insert_jobs(&tx, row.sweep_id, sweep, &prep_ids)?;
+        let other_versions = other_versions(&tx, row.sweep_id, &sweep.solver_version)?;
         tx.commit()?;
         Ok(Registration {
-            sweep_id,
-            created,
-            grown_from,
-            archived_as,
+            sweep_id: row.sweep_id,
+            created: row.created,
+            grown_from: row.grown_from,
+            archived_as: row.archived_as,
             other_versions,
         })
     }
+}
+
+/// The sweep's row after registration, and what registration did to it.
+struct SweepRow {
+    sweep_id: i64,
+    created: bool,
+    grown_from: Option<u32>,
+    archived_as: Option<String>,
+}
+
+/// Find, update, archive or insert the sweep's row: a new sweep is inserted, the same one kept,
+/// a retuned or grown one updated; a conflicting one is refused, or archived with `replace`.
+fn sweep_row(tx: &rusqlite::Connection, sweep: &NewSweep, replace: bool) -> Result<SweepRow> {
+    let existing: Option<(i64, String)> = tx
+        .query_row(
+            "SELECT id, spec FROM sweeps WHERE name = ?1",
+            [&sweep.name],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
+        .optional()?;
+    let mut archived_as = None;
+    let mut grown_from = None;
+    let (sweep_id, created) = match existing {
+        None => (insert_sweep(tx, sweep)?, true),
+        Some((id, spec)) => match spec_change(&spec, &sweep.spec) {
+            SpecChange::Same => (id, false),
+            SpecChange::Retuned => {
+                tx.execute(
+                    "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                    params![sweep.spec, sweep.source, id],
+                )?;
+                (id, false)
+            }
+            SpecChange::Grows { from } => {
+                // Replicate r's seed and prep do not depend on how many replicates there
+                // are: the stored jobs are the first `from` of the grown sweep, and the
+                // jobs insert_jobs adds are the others.
+                tx.execute(
+                    "UPDATE sweeps SET spec = ?1, source = ?2 WHERE id = ?3",
+                    params![sweep.spec, sweep.source, id],
+                )?;
+                grown_from = Some(from);
+                (id, false)
+            }
+            change if !replace => {
+                let name = sweep.name.clone();
+                return Err(match change {
+                    SpecChange::Shrinks { from, to } => StoreError::SweepShrinks {
+                        name,
+                        stored: from,
+                        asked: to,
+                    },
+                    _ => StoreError::SweepConflict {
+                        archived: format!("{name}@{id}"),
+                        differs: spec_differences(&spec, &sweep.spec),
+                        name,
+                    },
+                });
+            }
+            _ => {
+                let archived = format!("{}@{}", sweep.name, id);
+                tx.execute(
+                    "UPDATE sweeps SET name = ?1 WHERE id = ?2",
+                    params![archived, id],
+                )?;
+                archived_as = Some(archived);
+                (insert_sweep(tx, sweep)?, true)
+            }
+        },
+    };
+    Ok(SweepRow {
+        sweep_id,
+        created,
+        grown_from,
+        archived_as,
+    })
+}
+
+/// The points of a newly inserted sweep, in order.
+fn insert_points(tx: &rusqlite::Connection, sweep_id: i64, sweep: &NewSweep) -> Result<()> {
+    let mut insert = tx.prepare(
+        "INSERT INTO points (sweep_id, idx, alpha, beta, L, sigma, params)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+    )?;
+    for (idx, pt) in sweep.points.iter().enumerate() {
+        insert.execute(params![
+            sweep_id, idx as i64, pt.alpha, pt.beta, pt.spacing, pt.sigma, pt.config
+        ])?;
+    }
+    Ok(())
+}
+
+/// The sweep's preps (those already stored, by key, seed and solver, are shared), with the id
+/// of each.
+fn insert_preps(tx: &rusqlite::Connection, sweep: &NewSweep) -> Result<Vec<i64>> {
+    let mut insert = tx.prepare(
+        "INSERT OR IGNORE INTO preps (key, seed, solver_version, config, state)
+         VALUES (?1, ?2, ?3, ?4, 'pending')",
+    )?;
+    let mut id =
+        tx.prepare("SELECT id FROM preps WHERE key = ?1 AND seed = ?2 AND solver_version = ?3")?;
+    let mut prep_ids = Vec::with_capacity(sweep.preps.len());
+    for prep in &sweep.preps {
+        let seed = seed_to_sql(prep.seed);
+        insert.execute(params![prep.key, seed, sweep.solver_version, prep.config])?;
+        prep_ids.push(
+            id.query_row(params![prep.key, seed, sweep.solver_version], |r| {
+                r.get::<_, i64>(0)
+            })?,
+        );
+    }
+    Ok(prep_ids)
+}
+
+/// The jobs not yet stored (a resumed sweep's are kept as they are; a grown one gains its new
+/// replicates).
+fn insert_jobs(
+    tx: &rusqlite::Connection,
+    sweep_id: i64,
+    sweep: &NewSweep,
+    prep_ids: &[i64],
+) -> Result<()> {
+    let mut point_id = tx.prepare("SELECT id FROM points WHERE sweep_id = ?1 AND idx = ?2")?;
+    let mut insert = tx.prepare(
+        "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
+         VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
+    )?;
+    for (idx, pt) in sweep.points.iter().enumerate() {
+        let pid: i64 = point_id.query_row(params![sweep_id, idx as i64], |r| r.get(0))?;
+        for job in &pt.jobs {
+            insert.execute(params![
+                pid,
+                job.replicate,
+                sweep.solver_version,
+                prep_ids[job.prep],
+                seed_to_sql(job.seed)
+            ])?;
+        }
+    }
+    Ok(())
+}
+
+/// Results of this sweep stored under other solver versions, per version.
+fn other_versions(
+    tx: &rusqlite::Connection,
+    sweep_id: i64,
+    solver_version: &str,
+) -> Result<Vec<(String, i64)>> {
+    let mut q = tx.prepare(
+        "SELECT j.solver_version, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
+         WHERE p.sweep_id = ?1 AND j.solver_version != ?2 AND j.state = 'done'
+         GROUP BY j.solver_version ORDER BY j.solver_version",
+    )?;
+    let rows = q.query_map(params![sweep_id, solver_version], |r| {
+        Ok((r.get(0)?, r.get(1)?))
+    })?;
+    Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
 }
 
 /// How a new definition of a registered sweep differs from the stored one.

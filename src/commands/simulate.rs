@@ -1,10 +1,13 @@
 //! `cellsweep simulate`: one whole trajectory, prep and collision.
 
 use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
-use cellsweep_solver::{run_trajectory, Config, Protocol, Seeds};
+use cellsweep_solver::{
+    run_trajectory, Collision, Config, Prep, Protocol, Seeds, TrajectoryResult,
+};
 
 use super::model;
 use crate::cli::SimulateArgs;
@@ -26,6 +29,27 @@ fn on_workers<T: Send>(parallel: bool, f: impl FnOnce() -> T + Send) -> anyhow::
 }
 
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    let config = config(&args)?;
+    let seeds = Seeds::from_run_seed(args.seed);
+    let started = Instant::now();
+    let (result, prep, collision) = trajectory(&args, &config, seeds)?;
+    let wall = started.elapsed().as_secs_f64();
+    if let (Some(path), Some(c)) = (&args.track, &collision) {
+        write_track(path, c)?;
+    }
+    if args.json {
+        let mut v = serde_json::to_value(&result)?;
+        v["wall_s"] = wall.into();
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(());
+    }
+    print_text(&args, &config, &result, &prep, collision.as_ref());
+    println!("  wall time         {wall:.1} s");
+    Ok(())
+}
+
+/// The trajectory's configuration from the flags, checked.
+fn config(args: &SimulateArgs) -> anyhow::Result<Config> {
     let mut params = model::params(&args.model)?;
     params.beta = args.beta;
     params.sigma = args.sigma;
@@ -45,18 +69,24 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     };
     args.numerics.apply(&mut protocol);
     protocol.validate(&params).context("invalid parameters")?;
-    let config = Config {
+    Ok(Config {
         params,
         protocol,
         classifier: model::classifier(&args.classifier)?,
-    };
-    let seeds = Seeds::from_run_seed(args.seed);
-    let started = Instant::now();
-    let (result, prep, collision) = match &args.frames {
+    })
+}
+
+/// Run it, recording frames or showing a bar per stage.
+fn trajectory(
+    args: &SimulateArgs,
+    config: &Config,
+    seeds: Seeds,
+) -> anyhow::Result<(TrajectoryResult, Prep, Option<Collision>)> {
+    Ok(match &args.frames {
         Some(dir) => {
             let mut rec = FrameRecorder::new(dir, args.frame_every)?;
             let out = on_workers(args.parallel, || {
-                run_trajectory(&config, seeds, &mut rec, args.parallel)
+                run_trajectory(config, seeds, &mut rec, args.parallel)
             })??;
             rec.finish()?;
             let pngs = rec
@@ -73,29 +103,34 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         None => {
             let mut bars = StageBars::new();
             let out = on_workers(args.parallel, || {
-                run_trajectory(&config, seeds, &mut bars, args.parallel)
+                run_trajectory(config, seeds, &mut bars, args.parallel)
             })??;
             bars.finish();
             out
         }
-    };
-    let wall = started.elapsed().as_secs_f64();
+    })
+}
 
-    if let (Some(path), Some(c)) = (&args.track, &collision) {
-        let mut f = std::io::BufWriter::new(
-            std::fs::File::create(path)
-                .with_context(|| format!("cannot write {}", path.display()))?,
-        );
-        for s in &c.track {
-            writeln!(f, "{}", serde_json::to_string(s)?)?;
-        }
+/// The collision's observables, one JSON object per sample.
+fn write_track(path: &Path, c: &Collision) -> anyhow::Result<()> {
+    let mut f = std::io::BufWriter::new(
+        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?,
+    );
+    for s in &c.track {
+        writeln!(f, "{}", serde_json::to_string(s)?)?;
     }
-    if args.json {
-        let mut v = serde_json::to_value(&result)?;
-        v["wall_s"] = wall.into();
-        println!("{}", serde_json::to_string(&v)?);
-        return Ok(());
-    }
+    f.flush()?;
+    Ok(())
+}
+
+/// The result in a few aligned lines.
+fn print_text(
+    args: &SimulateArgs,
+    config: &Config,
+    result: &TrajectoryResult,
+    prep: &Prep,
+    collision: Option<&Collision>,
+) {
     let p = &config.params;
     println!(
         "alpha = {}, beta = {}, L = {}, sigma = {}, geometry = {}, seed = {}, collision in {}",
@@ -110,7 +145,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
     println!("  prep verdict      {}", result.verdict.as_str());
     println!("  free speed        {} l0/tau0", opt(prep.free_speed));
-    match (&collision, result.outcome) {
+    match (collision, result.outcome) {
         (Some(c), Some(outcome)) => {
             println!("  outcome           {outcome}");
             println!("  contact time      {} tau0", opt(c.contact_time));
@@ -133,6 +168,4 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
         }
         _ => println!("  no collision (the prep is not ok)"),
     }
-    println!("  wall time         {wall:.1} s");
-    Ok(())
 }

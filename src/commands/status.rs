@@ -1,7 +1,8 @@
 //! `cellsweep status`: progress of every sweep in the store (works while a sweep runs).
 
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{OutcomeCounts, Store};
+use cellsweep_store::{OutcomeCounts, Store, SweepStatus};
+use serde_json::Value;
 
 use crate::cli::StatusArgs;
 use crate::progress::speed_line;
@@ -44,103 +45,131 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let store = Store::open_read(&args.db.db)?;
     let all = store.status()?;
     if args.json {
-        let mut rows = Vec::new();
-        for s in &all {
-            let mut v = serde_json::to_value(s)?;
-            let arrays = match store.sweep_id(&s.sweep) {
-                Ok(id) => store.arrays_of(id, &s.solver_version)?,
-                Err(_) => Vec::new(),
-            };
-            if let Some(by) = standings(&store, &s.sweep, &s.solver_version)? {
-                v["adaptive"] = serde_json::json!(by);
-            }
-            if args.failed {
-                let id = store.sweep_id(&s.sweep)?;
-                v["failures"] = serde_json::to_value(store.failures(id, &s.solver_version)?)?;
-            }
-            if !arrays.is_empty() {
-                let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
-                v["slurm"] = serde_json::json!({
-                    "arrays": arrays,
-                    "queue": cellsweep_scheduler::slurm::queue_states(&ids),
-                });
-            }
-            rows.push(v);
-        }
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json_rows(&store, &all, args.failed)?)?
+        );
         return Ok(());
     }
     if all.is_empty() {
         println!("no sweeps in {}", args.db.db.display());
     }
     for s in &all {
-        let j = &s.jobs;
-        let current = if s.solver_version == SOLVER_VERSION {
-            ""
-        } else {
-            " (another solver version)"
+        print_sweep(&store, s, args.failed)?;
+    }
+    Ok(())
+}
+
+/// `status --json`: one object per sweep and solver version, with its adaptive standings,
+/// failures (with `--failed`) and Slurm arrays where it has them.
+fn json_rows(store: &Store, all: &[SweepStatus], failed: bool) -> anyhow::Result<Vec<Value>> {
+    let mut rows = Vec::new();
+    for s in all {
+        let mut v = serde_json::to_value(s)?;
+        let arrays = match store.sweep_id(&s.sweep) {
+            Ok(id) => store.arrays_of(id, &s.solver_version)?,
+            Err(_) => Vec::new(),
         };
-        println!("{} [{}{}]", s.sweep, s.solver_version, current);
-        println!(
-            "  jobs     {} done / {} total · {} pending · {} running · {} failed",
-            j.done,
-            j.total(),
-            j.pending,
-            j.running,
-            j.failed
-        );
-        println!("  preps    {} / {} done", s.preps_done, s.preps_total);
-        println!("  outcomes {}", outcome_line(&s.outcomes));
-        if let Some(by) = standings(&store, &s.sweep, &s.solver_version)? {
-            // Jobs of open points' later rounds are not registered yet: the total grows.
-            println!(
-                "  adaptive points {} (open points get more rounds: the job total grows)",
-                by.iter()
-                    .map(|(k, n)| format!("{n} {k}"))
-                    .collect::<Vec<_>>()
-                    .join(" · ")
-            );
+        if let Some(by) = standings(store, &s.sweep, &s.solver_version)? {
+            v["adaptive"] = serde_json::json!(by);
         }
-        if let Ok(id) = store.sweep_id(&s.sweep) {
-            let arrays = store.arrays_of(id, &s.solver_version)?;
-            if !arrays.is_empty() {
-                let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
-                let queue = cellsweep_scheduler::slurm::queue_states(&ids).map_or(
-                    "squeue unavailable".to_string(),
-                    |st| {
-                        if st.is_empty() {
-                            "none queued or running".to_string()
-                        } else {
-                            st.iter()
-                                .map(|(k, n)| format!("{n} {k}"))
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        }
-                    },
-                );
-                println!("  slurm    arrays {} · tasks: {queue}", ids.join(", "));
-            }
-        }
-        if args.failed {
+        if failed {
             let id = store.sweep_id(&s.sweep)?;
-            for f in store.failures(id, &s.solver_version)? {
-                println!(
-                    "  failed   {} {} at alpha = {}, beta = {}, L = {}, sigma = {}{} after {} attempts: {}",
-                    f.kind,
-                    f.id,
-                    f.alpha,
-                    f.beta,
-                    f.L,
-                    f.sigma,
-                    f.replicate.map_or(String::new(), |r| format!(", replicate {r}")),
-                    f.attempts,
-                    f.error
-                );
-            }
+            v["failures"] = serde_json::to_value(store.failures(id, &s.solver_version)?)?;
         }
-        if let Some(line) = speed_line(s.jobs_per_s, (j.pending + j.running) as f64) {
-            println!("  speed    {line}");
+        if !arrays.is_empty() {
+            let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
+            v["slurm"] = serde_json::json!({
+                "arrays": arrays,
+                "queue": cellsweep_scheduler::slurm::queue_states(&ids),
+            });
         }
+        rows.push(v);
+    }
+    Ok(rows)
+}
+
+/// One sweep's status in a few lines.
+fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<()> {
+    let j = &s.jobs;
+    let current = if s.solver_version == SOLVER_VERSION {
+        ""
+    } else {
+        " (another solver version)"
+    };
+    println!("{} [{}{}]", s.sweep, s.solver_version, current);
+    println!(
+        "  jobs     {} done / {} total · {} pending · {} running · {} failed",
+        j.done,
+        j.total(),
+        j.pending,
+        j.running,
+        j.failed
+    );
+    println!("  preps    {} / {} done", s.preps_done, s.preps_total);
+    println!("  outcomes {}", outcome_line(&s.outcomes));
+    if let Some(by) = standings(store, &s.sweep, &s.solver_version)? {
+        // Jobs of open points' later rounds are not registered yet: the total grows.
+        println!(
+            "  adaptive points {} (open points get more rounds: the job total grows)",
+            by.iter()
+                .map(|(k, n)| format!("{n} {k}"))
+                .collect::<Vec<_>>()
+                .join(" · ")
+        );
+    }
+    if let Ok(id) = store.sweep_id(&s.sweep) {
+        print_arrays(store, id, &s.solver_version)?;
+    }
+    if failed {
+        print_failures(store, &s.sweep, &s.solver_version)?;
+    }
+    if let Some(line) = speed_line(s.jobs_per_s, (j.pending + j.running) as f64) {
+        println!("  speed    {line}");
+    }
+    Ok(())
+}
+
+/// The sweep's Slurm arrays and the states of their tasks in the queue.
+fn print_arrays(store: &Store, id: i64, version: &str) -> anyhow::Result<()> {
+    let arrays = store.arrays_of(id, version)?;
+    if !arrays.is_empty() {
+        let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
+        let queue = cellsweep_scheduler::slurm::queue_states(&ids).map_or(
+            "squeue unavailable".to_string(),
+            |st| {
+                if st.is_empty() {
+                    "none queued or running".to_string()
+                } else {
+                    st.iter()
+                        .map(|(k, n)| format!("{n} {k}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                }
+            },
+        );
+        println!("  slurm    arrays {} · tasks: {queue}", ids.join(", "));
+    }
+    Ok(())
+}
+
+/// Each failed job and prep with its attempts and error.
+fn print_failures(store: &Store, sweep: &str, version: &str) -> anyhow::Result<()> {
+    let id = store.sweep_id(sweep)?;
+    for f in store.failures(id, version)? {
+        println!(
+            "  failed   {} {} at alpha = {}, beta = {}, L = {}, sigma = {}{} after {} attempts: {}",
+            f.kind,
+            f.id,
+            f.alpha,
+            f.beta,
+            f.L,
+            f.sigma,
+            f.replicate
+                .map_or(String::new(), |r| format!(", replicate {r}")),
+            f.attempts,
+            f.error
+        );
     }
     Ok(())
 }

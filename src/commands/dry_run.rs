@@ -6,7 +6,7 @@ use std::time::Instant;
 use cellsweep_scheduler::{plan, Sweep};
 use cellsweep_solver::prep::{initial_circle, kick};
 use cellsweep_solver::{Cell, Fibers, Lattice, SOLVER_VERSION};
-use cellsweep_store::Store;
+use cellsweep_store::{MeasuredCost, Store};
 
 /// Seconds per single-cell step on the sweep's lattice, from a short measurement here.
 fn single_step_s(sweep: &Sweep) -> f64 {
@@ -63,38 +63,68 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
     } else {
         None
     };
-    let (mut jobs_left, mut preps_left) = (first as i64, new.preps.len() as i64);
-    match &store {
-        None => println!("  {} does not exist: it would be created", db.display()),
-        Some(store) => match store
-            .status()?
-            .into_iter()
-            .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION)
-        {
-            None => println!("  not registered in {} yet", db.display()),
-            Some(s) => {
-                println!(
-                    "  in {}: {} jobs done, {} pending, {} running, {} failed; {} of {} preps done",
-                    db.display(),
-                    s.jobs.done,
-                    s.jobs.pending,
-                    s.jobs.running,
-                    s.jobs.failed,
-                    s.preps_done,
-                    s.preps_total
-                );
-                jobs_left = s.jobs.pending + s.jobs.running;
-                preps_left = s.preps_total - s.preps_done;
-            }
-        },
+    let (jobs_left, preps_left) = match &store {
+        Some(store) => left_in_store(store, sweep, db)?,
+        None => {
+            println!("  {} does not exist: it would be created", db.display());
+            None
+        }
     }
+    .unwrap_or((first as i64, new.preps.len() as i64));
     let measured = match &store {
         Some(s) => Some(s.measured_cost(SOLVER_VERSION)?),
         None => None,
     };
+    let (prep_s, collision_s, how) = unit_costs(sweep, measured);
+    let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
+    println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
+    println!(
+        "  to run now: {preps_left} preps and {jobs_left} collisions{}: {:.2} core-hours, about {} \
+         on {workers} workers",
+        if sweep.adaptive.is_some() {
+            " (the first round; later rounds follow)"
+        } else {
+            ""
+        },
+        total / 3600.0,
+        hours(total / workers.max(1) as f64)
+    );
+    Ok(())
+}
+
+/// What the store holds of the sweep, printed: the jobs and preps left to run, or None if it
+/// is not registered there.
+fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Option<(i64, i64)>> {
+    let Some(s) = store
+        .status()?
+        .into_iter()
+        .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION)
+    else {
+        println!("  not registered in {} yet", db.display());
+        return Ok(None);
+    };
+    println!(
+        "  in {}: {} jobs done, {} pending, {} running, {} failed; {} of {} preps done",
+        db.display(),
+        s.jobs.done,
+        s.jobs.pending,
+        s.jobs.running,
+        s.jobs.failed,
+        s.preps_done,
+        s.preps_total
+    );
+    Ok(Some((
+        s.jobs.pending + s.jobs.running,
+        s.preps_total - s.preps_done,
+    )))
+}
+
+/// Seconds per prep and per collision, and how they were found: measured in the store where it
+/// has both, else from a single-cell step timed here (a collision at its longest).
+fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, String) {
     let steps = |t: f64| (t / sweep.params.dt).round();
     let p = &sweep.protocol;
-    let (prep_s, collision_s, how) = match measured {
+    match measured {
         Some(m) if m.prep_s.is_some() && m.collision_s.is_some() => (
             m.prep_s.unwrap_or(0.0),
             m.collision_s.unwrap_or(0.0),
@@ -117,19 +147,5 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
                 ),
             )
         }
-    };
-    let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
-    println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
-    println!(
-        "  to run now: {preps_left} preps and {jobs_left} collisions{}: {:.2} core-hours, about {} \
-         on {workers} workers",
-        if sweep.adaptive.is_some() {
-            " (the first round; later rounds follow)"
-        } else {
-            ""
-        },
-        total / 3600.0,
-        hours(total / workers.max(1) as f64)
-    );
-    Ok(())
+    }
 }

@@ -1,6 +1,6 @@
 //! `collect`: the records of a run directory read back into the store through the ledger.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use cellsweep_store::{JobState, Store};
 
@@ -73,6 +73,23 @@ pub fn collect(
         c.problems.push(why.to_string());
         return Ok(c);
     }
+    collect_preps(&ledger, store, sweep_id, version, run_dir, &mut c)?;
+    for f in result_files(run_dir) {
+        collect_file(&ledger, store, &f, &mut c)?;
+    }
+    c.planned = ledger.plan_rounds(store)?;
+    Ok(c)
+}
+
+/// Take in the prep files of preps not yet done (each settles the jobs of its prep).
+fn collect_preps(
+    ledger: &Ledger,
+    store: &mut Store,
+    sweep_id: i64,
+    version: &str,
+    run_dir: &Path,
+    c: &mut Collected,
+) -> Result<(), SlurmError> {
     let preps = store.preps_of(sweep_id, version)?;
     let preps_dir = run_dir.join("preps");
     for p in preps.iter().filter(|p| p.state != JobState::Done) {
@@ -102,6 +119,11 @@ pub fn collect(
         }
         c.results += s.jobs_settled;
     }
+    Ok(())
+}
+
+/// Every record file of every submission under the run directory, in order.
+fn result_files(run_dir: &Path) -> Vec<PathBuf> {
     let mut files = Vec::new();
     if let Ok(subs) = std::fs::read_dir(run_dir) {
         for sub in subs.flatten() {
@@ -111,45 +133,52 @@ pub fn collect(
         }
     }
     files.sort();
-    for f in files {
-        // A prep task's file holds only its failures (a prep's result is its prep file).
-        let prep_file = f
-            .file_name()
-            .is_some_and(|n| n.to_string_lossy().starts_with("prep-"));
-        let (responses, problems) = read_responses(&f);
-        c.problems.extend(problems);
-        for r in responses {
-            match r {
-                Response::Collide {
-                    task,
-                    result,
-                    wall_s,
-                } => match ledger.settle_job(store, task, &result, wall_s)? {
-                    Settlement::New => c.results += 1,
-                    Settlement::Already => c.already += 1,
-                    Settlement::Refused(why) => {
-                        c.problems.push(format!("{}: refused: {why}", f.display()))
-                    }
-                },
-                Response::Failed {
-                    task,
-                    attempt,
-                    error,
-                } => {
-                    let of = if prep_file {
-                        TaskRef::Prep(task)
-                    } else {
-                        TaskRef::Job(task)
-                    };
-                    match ledger.fail(store, of, attempt, &error)? {
-                        Failure::Retry | Failure::GaveUp { .. } => c.failures += 1,
-                        Failure::Already | Failure::PrepNotReady => {}
-                    }
+    files
+}
+
+/// Take in one record file: its results, and its failures as attempts of their task.
+fn collect_file(
+    ledger: &Ledger,
+    store: &mut Store,
+    f: &Path,
+    c: &mut Collected,
+) -> Result<(), SlurmError> {
+    // A prep task's file holds only its failures (a prep's result is its prep file).
+    let prep_file = f
+        .file_name()
+        .is_some_and(|n| n.to_string_lossy().starts_with("prep-"));
+    let (responses, problems) = read_responses(f);
+    c.problems.extend(problems);
+    for r in responses {
+        match r {
+            Response::Collide {
+                task,
+                result,
+                wall_s,
+            } => match ledger.settle_job(store, task, &result, wall_s)? {
+                Settlement::New => c.results += 1,
+                Settlement::Already => c.already += 1,
+                Settlement::Refused(why) => {
+                    c.problems.push(format!("{}: refused: {why}", f.display()))
                 }
-                Response::Prep { .. } => {}
+            },
+            Response::Failed {
+                task,
+                attempt,
+                error,
+            } => {
+                let of = if prep_file {
+                    TaskRef::Prep(task)
+                } else {
+                    TaskRef::Job(task)
+                };
+                match ledger.fail(store, of, attempt, &error)? {
+                    Failure::Retry | Failure::GaveUp { .. } => c.failures += 1,
+                    Failure::Already | Failure::PrepNotReady => {}
+                }
             }
+            Response::Prep { .. } => {}
         }
     }
-    c.planned = ledger.plan_rounds(store)?;
-    Ok(c)
+    Ok(())
 }

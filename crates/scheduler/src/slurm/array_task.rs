@@ -23,12 +23,7 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
     unsafe {
         libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
     }
-    let task: usize = std::env::var("SLURM_ARRAY_TASK_ID")
-        .map_err(|_| {
-            "SLURM_ARRAY_TASK_ID is not set (this mode runs inside a Slurm array task)".to_string()
-        })?
-        .parse()
-        .map_err(|e| format!("bad SLURM_ARRAY_TASK_ID: {e}"))?;
+    let task = array_task_id()?;
     let tasks = sub_dir.join(format!("tasks/{kind}/{task}.jsonl"));
     let results = sub_dir.join(format!("results/{kind}-{task}.jsonl"));
     let preps_dir = sub_dir
@@ -41,19 +36,7 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
         .map(|r| r.task())
         .collect();
     let text = std::fs::read_to_string(&tasks).map_err(|e| io(e, &tasks))?;
-    let mut out = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&results)
-        .map_err(|e| io(e, &results))?;
-    // A task killed mid-write left a torn last line: start on a fresh one, so that the torn
-    // record stays alone (and is skipped by `collect`) instead of swallowing the next.
-    let torn = std::fs::read(&results)
-        .map(|b| b.last().is_some_and(|&c| c != b'\n'))
-        .unwrap_or(false);
-    if torn {
-        out.write_all(b"\n").map_err(|e| io(e, &results))?;
-    }
+    let mut out = open_records(&results)?;
     let mut cache = crate::worker::PrepCache::new();
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     for (k, line) in lines.iter().enumerate() {
@@ -73,13 +56,7 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
             lines.len()
         );
         if let Request::Collide { prep_id, prep, .. } = &mut req {
-            let path = preps_dir.join(format!("{prep_id}.json"));
-            match std::fs::read_to_string(&path)
-                .map_err(|e| io(e, &path))
-                .and_then(|t| {
-                    serde_json::from_str::<PrepPayload>(&t)
-                        .map_err(|e| format!("{}: {e}", path.display()).into())
-                }) {
+            match read_prep(&preps_dir.join(format!("{prep_id}.json"))) {
                 Ok(p) => *prep = Some(Box::new(p)),
                 Err(error) => {
                     // The job could not start: that is its prep's failure (recorded from the
@@ -103,4 +80,39 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
         }
     }
     Ok(())
+}
+
+/// This array task's index, from Slurm.
+fn array_task_id() -> Result<usize, SlurmError> {
+    std::env::var("SLURM_ARRAY_TASK_ID")
+        .map_err(|_| {
+            "SLURM_ARRAY_TASK_ID is not set (this mode runs inside a Slurm array task)".to_string()
+        })?
+        .parse()
+        .map_err(|e| format!("bad SLURM_ARRAY_TASK_ID: {e}").into())
+}
+
+/// The task's record file, opened to append; a torn last line (a task killed mid-write) is
+/// ended first, so that the torn record stays alone (and is skipped by `collect`) instead of
+/// swallowing the next.
+fn open_records(results: &Path) -> Result<std::fs::File, SlurmError> {
+    let mut out = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(results)
+        .map_err(|e| io(e, results))?;
+    let torn = std::fs::read(results)
+        .map(|b| b.last().is_some_and(|&c| c != b'\n'))
+        .unwrap_or(false);
+    if torn {
+        out.write_all(b"\n").map_err(|e| io(e, results))?;
+    }
+    Ok(out)
+}
+
+/// The prep file a collide record needs.
+fn read_prep(path: &Path) -> Result<PrepPayload, SlurmError> {
+    let text = std::fs::read_to_string(path).map_err(|e| io(e, path))?;
+    serde_json::from_str::<PrepPayload>(&text)
+        .map_err(|e| format!("{}: {e}", path.display()).into())
 }

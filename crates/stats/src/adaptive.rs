@@ -387,49 +387,63 @@ pub fn assess_with(
     rule: &AdaptiveRule,
     iv: &mut Intervals,
 ) -> Vec<Assessment> {
-    // First each point on its own.
-    let mut out: Vec<Assessment> = points
-        .iter()
-        .map(|p| {
-            let n = rule.complete_round(p.prefix()).unwrap_or(0);
-            if n == 0 {
-                return Assessment {
-                    n,
-                    standing: Standing::Open,
-                    certain_label: None,
-                    certain_sign: None,
-                    bounds: None,
-                    next_round: rule.next_round(0),
-                };
-            }
-            let c = p.counts(n);
-            let verdict_only = c.n_unstable + c.n_breakup == c.total();
-            if verdict_only {
-                return Assessment {
-                    n,
-                    standing: Standing::Verdict,
-                    certain_label: c.label(),
-                    certain_sign: None,
-                    bounds: None,
-                    next_round: None,
-                };
-            }
-            let (bounds, label, sign) = look(&c, iv);
-            Assessment {
-                n,
-                standing: if label.is_some() {
-                    Standing::Settled
-                } else {
-                    Standing::Open
-                },
-                certain_label: label,
-                certain_sign: sign,
-                bounds: Some(bounds),
-                next_round: None,
-            }
-        })
-        .collect();
-    // Then the sign rule, against the nearest collided neighbours in beta.
+    // First each point on its own, then the sign rule against its neighbours.
+    let mut out: Vec<Assessment> = points.iter().map(|p| assess_point(p, rule, iv)).collect();
+    settle_by_sign(points, &mut out);
+    for a in out.iter_mut().filter(|a| a.standing == Standing::Open) {
+        if a.n >= rule.max_replicates {
+            a.standing = Standing::Exhausted;
+        } else {
+            a.next_round = rule.next_round(a.n);
+        }
+    }
+    out
+}
+
+/// One point on its own, over its complete rounds: settled if its label is certain, decided
+/// by its preps if no collision ran, else open (with its bounds and any certain sign).
+fn assess_point(p: &PointEnds, rule: &AdaptiveRule, iv: &mut Intervals) -> Assessment {
+    let n = rule.complete_round(p.prefix()).unwrap_or(0);
+    if n == 0 {
+        return Assessment {
+            n,
+            standing: Standing::Open,
+            certain_label: None,
+            certain_sign: None,
+            bounds: None,
+            next_round: rule.next_round(0),
+        };
+    }
+    let c = p.counts(n);
+    let verdict_only = c.n_unstable + c.n_breakup == c.total();
+    if verdict_only {
+        return Assessment {
+            n,
+            standing: Standing::Verdict,
+            certain_label: c.label(),
+            certain_sign: None,
+            bounds: None,
+            next_round: None,
+        };
+    }
+    let (bounds, label, sign) = look(&c, iv);
+    Assessment {
+        n,
+        standing: if label.is_some() {
+            Standing::Settled
+        } else {
+            Standing::Open
+        },
+        certain_label: label,
+        certain_sign: sign,
+        bounds: Some(bounds),
+        next_round: None,
+    }
+}
+
+/// The sign rule: an open point whose sign of (walk-past - training) is certain is settled by
+/// sign when its nearest collided neighbours in beta, in its column, have the same certain sign.
+fn settle_by_sign(points: &[PointEnds], out: &mut [Assessment]) {
     let mut columns: HashMap<(u32, u64, u64), Vec<usize>> = HashMap::new();
     for (i, p) in points.iter().enumerate() {
         if out[i].standing != Standing::Verdict {
@@ -460,12 +474,4 @@ pub fn assess_with(
     for i in by_sign {
         out[i].standing = Standing::Sign;
     }
-    for a in out.iter_mut().filter(|a| a.standing == Standing::Open) {
-        if a.n >= rule.max_replicates {
-            a.standing = Standing::Exhausted;
-        } else {
-            a.next_round = rule.next_round(a.n);
-        }
-    }
-    out
 }

@@ -2,7 +2,7 @@
 
 use cellsweep_solver::{Config, Params};
 use cellsweep_store::export::{changed_params, ExportRow};
-use cellsweep_store::{JobState, ResultRecord, Store};
+use cellsweep_store::{JobIdentity, JobState, ResultRecord, Store};
 use serde_json::json;
 
 use super::{Ledger, Settlement};
@@ -49,84 +49,125 @@ impl Ledger {
         let Some(job) = store.job_identity(job_id)? else {
             return refuse("no such job in the sweep".into());
         };
-        if job.seed != row.collision_seed {
-            return refuse(format!(
-                "collision seed {} is not the job's {}",
-                row.collision_seed, job.seed
-            ));
-        }
-        let prep = store.prep_identity(job.prep_id, self.sweep_id)?;
-        if prep.as_ref().map(|p| p.seed) != Some(row.prep_seed) {
-            return refuse(format!(
-                "prep seed {} is not the job's prep's",
-                row.prep_seed
-            ));
-        }
-        let config_json: serde_json::Value = serde_json::from_str(&job.config)?;
-        let defaults = serde_json::to_value(Params::default())?;
-        if changed_params(&config_json, &defaults) != row.params {
-            return refuse(format!("parameters {} are not the job's", row.params));
-        }
-        let config: Config = serde_json::from_str(&job.config)?;
-        let steps = match config.protocol.validate(&config.params) {
-            Ok(steps) => steps,
-            Err(e) => return refuse(format!("the job's protocol: {e}")),
+        let problem = match identity_problem(store, self.sweep_id, &job, row)? {
+            Some(why) => Some(why),
+            None => match fit_problem(&job, row)? {
+                Some(why) => Some(why),
+                None => prep_problem(store, &job, row)?,
+            },
         };
-        let end = steps.collide as f64 * config.params.dt;
-        for (field, t) in [
-            ("contact_time", row.contact_time),
-            ("decision_time", row.decision_time),
-        ] {
-            if t.is_some_and(|t| t > end * (1.0 + 1e-9)) {
-                return refuse(format!(
-                    "{field} = {} is after the collision's end at {end} tau0",
-                    t.unwrap_or_default()
-                ));
-            }
-        }
-        if row.collision_steps as u64 > steps.collide {
-            return refuse(format!(
-                "collision_steps = {} is more than the collision's {}",
-                row.collision_steps, steps.collide
-            ));
-        }
-        if config.protocol.precision.as_str() != row.precision {
-            return refuse(format!("precision {} is not the job's", row.precision));
-        }
-        let classifier: Result<serde_json::Value, _> = serde_json::from_str(&row.classifier);
-        if classifier.ok() != Some(serde_json::to_value(&config.classifier)?) {
-            return refuse("classifier settings are not the job's".into());
-        }
-        let Some(verdict) = job.prep_verdict.as_deref() else {
-            return refuse("its prep is not computed yet".into());
-        };
-        let hash = store.prep_hash(job.prep_id)?;
-        if hash != row.prep_hash {
-            return refuse(format!(
-                "prep hash {} is not that of the prep computed here ({hash})",
-                row.prep_hash
-            ));
-        }
-        let outcome_ok = match row.outcome.as_deref() {
-            None => verdict != "ok",
-            Some(o) => {
-                verdict == "ok"
-                    && ["train", "walk_past", "reversal", "undetermined", "breakup"].contains(&o)
-            }
-        };
-        if row.verdict != verdict || !outcome_ok {
-            return refuse(format!(
-                "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
-                row.verdict,
-                row.outcome.as_deref().unwrap_or("")
-            ));
+        if let Some(why) = problem {
+            return refuse(why);
         }
         Ok(match job.state {
             JobState::Done => RowCheck::Already,
             _ => RowCheck::Commit(job_id),
         })
     }
+}
 
+/// Why a row is not the job it names (seeds, parameters), if it is not.
+fn identity_problem(
+    store: &Store,
+    sweep_id: i64,
+    job: &JobIdentity,
+    row: &ExportRow,
+) -> Result<Option<String>, RunError> {
+    if job.seed != row.collision_seed {
+        return Ok(Some(format!(
+            "collision seed {} is not the job's {}",
+            row.collision_seed, job.seed
+        )));
+    }
+    let prep = store.prep_identity(job.prep_id, sweep_id)?;
+    if prep.as_ref().map(|p| p.seed) != Some(row.prep_seed) {
+        return Ok(Some(format!(
+            "prep seed {} is not the job's prep's",
+            row.prep_seed
+        )));
+    }
+    let config_json: serde_json::Value = serde_json::from_str(&job.config)?;
+    let defaults = serde_json::to_value(Params::default())?;
+    if changed_params(&config_json, &defaults) != row.params {
+        return Ok(Some(format!("parameters {} are not the job's", row.params)));
+    }
+    Ok(None)
+}
+
+/// Why a row does not fit its job's protocol (times and steps past the collision's end,
+/// precision, classifier), if it does not.
+fn fit_problem(job: &JobIdentity, row: &ExportRow) -> Result<Option<String>, RunError> {
+    let config: Config = serde_json::from_str(&job.config)?;
+    let steps = match config.protocol.validate(&config.params) {
+        Ok(steps) => steps,
+        Err(e) => return Ok(Some(format!("the job's protocol: {e}"))),
+    };
+    let end = steps.collide as f64 * config.params.dt;
+    for (field, t) in [
+        ("contact_time", row.contact_time),
+        ("decision_time", row.decision_time),
+    ] {
+        if t.is_some_and(|t| t > end * (1.0 + 1e-9)) {
+            return Ok(Some(format!(
+                "{field} = {} is after the collision's end at {end} tau0",
+                t.unwrap_or_default()
+            )));
+        }
+    }
+    if row.collision_steps as u64 > steps.collide {
+        return Ok(Some(format!(
+            "collision_steps = {} is more than the collision's {}",
+            row.collision_steps, steps.collide
+        )));
+    }
+    if config.protocol.precision.as_str() != row.precision {
+        return Ok(Some(format!(
+            "precision {} is not the job's",
+            row.precision
+        )));
+    }
+    let classifier: Result<serde_json::Value, _> = serde_json::from_str(&row.classifier);
+    if classifier.ok() != Some(serde_json::to_value(&config.classifier)?) {
+        return Ok(Some("classifier settings are not the job's".into()));
+    }
+    Ok(None)
+}
+
+/// Why a row's prep is not the prep computed here (not yet computed, another hash, another
+/// verdict or an outcome that verdict cannot have), if it is not.
+fn prep_problem(
+    store: &Store,
+    job: &JobIdentity,
+    row: &ExportRow,
+) -> Result<Option<String>, RunError> {
+    let Some(verdict) = job.prep_verdict.as_deref() else {
+        return Ok(Some("its prep is not computed yet".into()));
+    };
+    let hash = store.prep_hash(job.prep_id)?;
+    if hash != row.prep_hash {
+        return Ok(Some(format!(
+            "prep hash {} is not that of the prep computed here ({hash})",
+            row.prep_hash
+        )));
+    }
+    let outcome_ok = match row.outcome.as_deref() {
+        None => verdict != "ok",
+        Some(o) => {
+            verdict == "ok"
+                && ["train", "walk_past", "reversal", "undetermined", "breakup"].contains(&o)
+        }
+    };
+    if row.verdict != verdict || !outcome_ok {
+        return Ok(Some(format!(
+            "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
+            row.verdict,
+            row.outcome.as_deref().unwrap_or("")
+        )));
+    }
+    Ok(None)
+}
+
+impl Ledger {
     /// Commit a row that [`Ledger::check_row`] passed, as the result of `job_id`.
     pub fn commit_row(
         &self,

@@ -129,6 +129,45 @@ fn fit_recovers_the_line_and_explains_what_it_cannot_fit() {
         assert!(v.get(key).is_some(), "{key}");
     }
     assert_eq!(v["columns"].as_array().unwrap().len(), 6);
+    // By default each column is read by its model, the interpolation kept beside; with
+    // --method interpolate the interpolation is primary and gives the same values.
+    let interpolated = cellsweep(&[
+        "fit",
+        "--counts",
+        counts.to_str().unwrap(),
+        "--format",
+        "json",
+        "--bootstrap",
+        "200",
+        "--method",
+        "interpolate",
+    ]);
+    assert!(interpolated.status.success());
+    let w: serde_json::Value = serde_json::from_slice(&interpolated.stdout).unwrap();
+    assert_eq!(
+        (v["method"].as_str(), w["method"].as_str()),
+        (Some("model"), Some("interpolate"))
+    );
+    for (m, i) in v["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(w["columns"].as_array().unwrap())
+    {
+        assert_eq!(m["method"], "model");
+        assert_eq!(m["interpolated"], i["beta_star"], "{m} {i}");
+        assert_eq!(m["interpolated_ci"], i["beta_ci"], "{m} {i}");
+        if let (Some(star), Some(ci)) = (m["beta_star"].as_f64(), m["beta_ci"].as_array()) {
+            let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+            assert!(lo < star && star < hi, "{m}");
+            assert!(m["model"]["deviance"].as_f64().unwrap() >= 0.0, "{m}");
+        } else {
+            assert!(
+                m["skipped"].as_str().is_some(),
+                "a column without beta* says why: {m}"
+            );
+        }
+    }
 
     let text = cellsweep(&[
         "fit",

@@ -562,6 +562,7 @@ const FLAGS: &[(&[&str], &str)] = &[
     (&["table", "--db", "r.sqlite", "--sweep", "nope"], "nope"),
     (&["fit", "--db", "r.sqlite", "--format", "csv"], "--format"),
     (&["fit", "--db", "r.sqlite", "--bootstrap", "-1"], "'-1'"),
+    (&["fit", "--db", "r.sqlite", "--method", "spline"], "spline"),
     (
         &[
             "submit",

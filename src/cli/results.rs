@@ -88,12 +88,35 @@ pub struct FitArgs {
     /// text or json.
     #[arg(long, value_enum, default_value = "text")]
     pub format: FitFormat,
-    /// Bootstrap resamples for the 95% intervals.
+    /// How each column's beta* is read: `model`, a logistic model of walk-past against
+    /// training over the whole column with a profile-likelihood interval (the line weighted by
+    /// the columns' intervals), or `interpolate`, the paper's linear interpolation between
+    /// grid points (the line by least squares, intervals by bootstrap). Both are shown.
+    #[arg(long, value_enum, default_value = "model")]
+    pub method: FitMethod,
+    /// Bootstrap resamples (interpolate) or draws from the columns' intervals (model) for the
+    /// 95% intervals of the line.
     #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     pub bootstrap: u32,
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+}
+
+/// How `fit` reads a column's beta*.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FitMethod {
+    Model,
+    Interpolate,
+}
+
+impl FitMethod {
+    pub fn method(self) -> cellsweep_stats::Method {
+        match self {
+            FitMethod::Model => cellsweep_stats::Method::Model,
+            FitMethod::Interpolate => cellsweep_stats::Method::Interpolate,
+        }
+    }
 }
 
 #[derive(Debug, Args)]

@@ -1,8 +1,9 @@
-//! The numbers a report states, computed once: beta* per column of each diagram with its
-//! bootstrap interval, the line over all spacings at sigma = 5 and at sigma = 0, and the
-//! measured shift of the line between the two.
+//! The numbers a report states, computed once: beta* per column of each diagram (the column
+//! model's, with the interpolated one beside), the line over all spacings at sigma = 5 and at
+//! sigma = 0, and the measured shift of the line between the two, by the model and by the
+//! paper's interpolation.
 
-use cellsweep_stats::{fit_line, measure_shift, Column, Fit, NoFit, Shift};
+use cellsweep_stats::{fit_line, measure_shift, Column, Fit, Method, NoFit, Shift};
 
 use crate::collection::{Collection, DiagramKey};
 use crate::Results;
@@ -21,6 +22,10 @@ pub struct Analysis<'a> {
     pub fit5: Result<Fit, NoFit>,
     pub fit0: Result<Fit, NoFit>,
     pub shift: Option<Shift>,
+    /// The same three by the paper's reading (beta* interpolated between grid rows), beside.
+    pub fit5_interpolated: Result<Fit, NoFit>,
+    pub fit0_interpolated: Result<Fit, NoFit>,
+    pub shift_interpolated: Option<Shift>,
 }
 
 impl<'a> Analysis<'a> {
@@ -31,7 +36,7 @@ impl<'a> Analysis<'a> {
             .iter()
             .map(|s| {
                 let counts: Vec<_> = s.counts().cloned().collect();
-                match fit_line(&counts, &s.results.scales, RESAMPLES, SEED) {
+                match fit_line(&counts, &s.results.scales, RESAMPLES, SEED, Method::Model) {
                     Ok(f) => (s.key, f.columns.clone(), Some(f)),
                     Err(no) => (s.key, no.columns, None),
                 }
@@ -41,9 +46,12 @@ impl<'a> Analysis<'a> {
         let (c0, scales0) = collection.counts_at(Some(0.0));
         let (call, scales) = collection.counts_at(None);
         Analysis {
-            fit5: fit_line(&c5, &scales5, RESAMPLES, SEED),
-            fit0: fit_line(&c0, &scales0, RESAMPLES, SEED),
-            shift: measure_shift(&call, &scales, RESAMPLES, SEED),
+            fit5: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Model),
+            fit0: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Model),
+            shift: measure_shift(&call, &scales, RESAMPLES, SEED, Method::Model),
+            fit5_interpolated: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Interpolate),
+            fit0_interpolated: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Interpolate),
+            shift_interpolated: measure_shift(&call, &scales, RESAMPLES, SEED, Method::Interpolate),
             per_diagram,
             collection,
         }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use cellsweep_plot::{Figure, RenderError};
-use cellsweep_stats::fit_line;
+use cellsweep_stats::{fit_line, Method};
 
 use crate::{figures, Results};
 
@@ -46,7 +46,7 @@ fn write(
 /// Write every picture of `results` into `dir`; returns the files written.
 pub fn write_plots(results: &Results, dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
     std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
-    let fitted = fit_line(&results.counts, &results.scales, 0, 1).ok();
+    let fitted = fit_line(&results.counts, &results.scales, 0, 1, Method::Model).ok();
     let mut written = Vec::new();
     for (l, sigma) in figures::diagrams(&results.counts) {
         let fig = figures::diagram_of(results, (l, sigma), fitted.as_ref());

@@ -9,7 +9,7 @@
 //! never an approximation that can undercover at small n (Wilson's can).
 
 /// ln Gamma(x), x > 0 (Lanczos, g = 7, 9 terms: about 15 significant digits).
-fn ln_gamma(x: f64) -> f64 {
+pub(crate) fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [
         0.999_999_999_999_809_9,
         676.520_368_121_885_1,
@@ -98,7 +98,7 @@ pub fn beta_inc(a: f64, b: f64, x: f64) -> f64 {
 }
 
 /// The x with I_x(a, b) = q, by bisection (I is increasing in x).
-fn beta_inc_inverse(a: f64, b: f64, q: f64) -> f64 {
+pub(crate) fn beta_inc_inverse(a: f64, b: f64, q: f64) -> f64 {
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);

@@ -231,7 +231,7 @@ fn l1_distance(points: &[Vec<(End, End)>], swapped: impl Fn(usize) -> bool) -> u
 
 /// Exact symmetry test: under the hypothesis that both sets come from the same solver
 /// statistics, each discordant pair (a, b) is as likely to have been (b, a). The p-value is the
-/// share of the 2^D swap patterns of the D discordant pairs whose statistic ([`l1_distance`])
+/// share of the 2^D swap patterns of the D discordant pairs whose statistic (`l1_distance`)
 /// reaches the observed one (exact up to 20 pairs, else `DRAWS` seeded random patterns). With
 /// two outcomes and one point this is McNemar's exact test. No discordant pair: p = 1.
 pub fn symmetry_test(points: &[Vec<(End, End)>]) -> f64 {

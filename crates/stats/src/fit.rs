@@ -1,15 +1,45 @@
-//! The beta_crit line (SPEC section 6): per (L, sigma, alpha) column, beta* is where
-//! n_walk - n_train changes sign as beta rises (linear interpolation between grid points); then
-//! beta* = a alpha~ / L~ + b by least squares, with alpha~ = 2 pi R0 d alpha_eff / eps0,
-//! alpha_eff = alpha + 0.002683 (5 - sigma) (the adhesion shift) and L~ = L / R0. Uncertainties
-//! by bootstrap over replicates: each point's counts are redrawn from its observed frequencies.
+//! The beta_crit line (SPEC section 6): per (L, sigma, alpha) column a beta*, then
+//! beta* = a alpha~ / L~ + b, with alpha~ = 2 pi R0 d alpha_eff / eps0,
+//! alpha_eff = alpha + 0.002683 (5 - sigma) (the adhesion shift) and L~ = L / R0.
+//!
+//! Two readings of a column ([`Method`]):
+//! - `model` (the default): the logistic model of the whole column ([`crate::column_model`]),
+//!   with its profile-likelihood interval; the line by weighted least squares, its intervals
+//!   from the columns' intervals (`model_line`);
+//! - `interpolate` (the paper's): where n_walk - n_train changes sign as beta rises, linear
+//!   between grid points; the line by least squares, with intervals by bootstrap over
+//!   replicates (each point's counts redrawn from its observed frequencies).
+//!
+//! Each column keeps the interpolated crossing beside the model's, whichever is primary.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+use crate::column_model::{fit_column, ColumnModel, Tally};
 use crate::counts::Counts;
+use crate::model_line::line_from_columns;
+
+/// How a column's beta* is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// The logistic model of the whole column, with its profile-likelihood interval.
+    #[default]
+    Model,
+    /// Linear interpolation of n_walk - n_train between grid points (the paper's reading).
+    Interpolate,
+}
+
+impl Method {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::Model => "model",
+            Method::Interpolate => "interpolate",
+        }
+    }
+}
 
 /// The paper's fit: beta_crit = 0.6 alpha~ / L~ - 12.
 pub const PAPER_A: f64 = 0.6;
@@ -57,13 +87,30 @@ pub struct Column {
     pub alpha: f64,
     /// alpha~ / L~ with the sigma shift.
     pub x: f64,
-    /// The crossing, if the column has one.
+    /// The crossing by `method`, if the column has one.
     pub beta_star: Option<f64>,
-    /// Its 95% bootstrap interval (where at least half the resamples have a crossing).
+    /// Its 95% interval: the model's profile likelihood, or the interpolation's bootstrap
+    /// (where at least half the resamples have a crossing).
     #[serde(default)]
     pub beta_ci: Option<[f64; 2]>,
-    /// Why the column is not used, if it is not.
+    /// Why the column has no beta* by `method`, if it has none.
     pub skipped: Option<String>,
+    /// How beta_star was read.
+    #[serde(default = "interpolate")]
+    pub method: Method,
+    /// The paper's reading beside it: the interpolated crossing and its bootstrap interval.
+    #[serde(default)]
+    pub interpolated: Option<f64>,
+    #[serde(default)]
+    pub interpolated_ci: Option<[f64; 2]>,
+    /// The model's fit (slope, deviance, dispersion), where it gives a crossing.
+    #[serde(default)]
+    pub model: Option<ColumnModel>,
+}
+
+/// Columns written before the model read beta* by interpolation.
+fn interpolate() -> Method {
+    Method::Interpolate
 }
 
 /// The fitted line.
@@ -76,7 +123,16 @@ pub struct Fit {
     pub r2: f64,
     pub paper_a: f64,
     pub paper_b: f64,
+    /// Resamples (interpolate) or draws from the columns' intervals (model) behind the
+    /// intervals of a and b.
     pub bootstrap: usize,
+    /// How the columns' beta* were read.
+    #[serde(default = "interpolate")]
+    pub method: Method,
+    /// With the model: the scatter of the columns about the line relative to their intervals
+    /// (Birge's ratio, sqrt(chi^2 / df)); above 1, the line's intervals were widened by it.
+    #[serde(default)]
+    pub scatter: Option<f64>,
     pub columns: Vec<Column>,
 }
 
@@ -163,6 +219,10 @@ pub(crate) fn columns(
                 beta_star,
                 beta_ci: None,
                 skipped,
+                method: Method::Interpolate,
+                interpolated: beta_star,
+                interpolated_ci: None,
+                model: None,
             }
         })
         .collect()
@@ -199,16 +259,30 @@ pub(crate) fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Fit beta* = a alpha~ / L~ + b to `counts`, with `resamples` bootstrap resamples (seeded).
-pub fn fit_line(
+/// The walk-past and training counts of each collided point of column `c`.
+fn tallies(counts: &[Counts], c: &Column) -> Vec<Tally> {
+    counts
+        .iter()
+        .filter(|p| p.L == c.L && p.sigma == c.sigma && p.alpha == c.alpha && p.collided())
+        .map(|p| Tally {
+            beta: p.beta,
+            walk: p.n_walk,
+            train: p.n_train,
+        })
+        .collect()
+}
+
+/// The columns of `counts` read by `method`, each with the interpolated crossing beside, and
+/// the bootstrap's (a, b) resamples of the interpolated line.
+pub(crate) fn read_columns(
     counts: &[Counts],
     scales: &Scales,
     resamples: usize,
     seed: u64,
-) -> Result<Fit, NoFit> {
+    method: Method,
+) -> (Vec<Column>, Vec<f64>, Vec<f64>) {
     let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
-    let cols = columns(counts, scales, &observed);
-    let xy = points_of(&cols);
+    let mut cols = columns(counts, scales, &observed);
     // Bootstrap: redraw every point's replicates from its observed outcome frequencies.
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut as_, mut bs) = (Vec::new(), Vec::new());
@@ -224,40 +298,90 @@ pub fn fit_line(
             bs.push(bb);
         }
     }
-    let mut cols = cols;
     for (c, mut v) in cols.iter_mut().zip(stars) {
         if resamples > 0 && 2 * v.len() >= resamples {
-            c.beta_ci = Some(percentile_95(&mut v));
+            c.interpolated_ci = Some(percentile_95(&mut v));
+        }
+        match method {
+            Method::Interpolate => c.beta_ci = c.interpolated_ci,
+            Method::Model => {
+                c.method = Method::Model;
+                match fit_column(&tallies(counts, c)) {
+                    Ok(m) => {
+                        (c.beta_star, c.beta_ci, c.skipped) = (Some(m.beta_star), Some(m.ci), None);
+                        c.model = Some(m);
+                    }
+                    Err(why) => {
+                        (c.beta_star, c.beta_ci, c.skipped) = (None, None, Some(why.to_string()))
+                    }
+                }
+            }
         }
     }
+    (cols, as_, bs)
+}
+
+/// Fit beta* = a alpha~ / L~ + b to `counts`, the columns read by `method`; `resamples`
+/// bootstrap resamples (interpolate) or draws from the columns' intervals (model), seeded.
+pub fn fit_line(
+    counts: &[Counts],
+    scales: &Scales,
+    resamples: usize,
+    seed: u64,
+    method: Method,
+) -> Result<Fit, NoFit> {
+    let (cols, mut as_, mut bs) = read_columns(counts, scales, resamples, seed, method);
+    let xy = points_of(&cols);
     let distinct: Vec<f64> = xy.iter().fold(Vec::new(), |mut v, p| {
         if !v.contains(&p.0) {
             v.push(p.0)
         }
         v
     });
-    let Some((a, b, r2)) = least_squares(&xy).filter(|_| distinct.len() >= 2) else {
-        return Err(NoFit {
-            reason: format!(
-                "{} of {} columns have a walk-past/training crossing, at {} distinct alpha~/L~; a line needs two",
-                xy.len(),
-                cols.len(),
-                distinct.len()
-            ),
-            columns: cols,
-        });
+    let no_fit = |cols: Vec<Column>| {
+        NoFit {
+        reason: format!(
+            "{} of {} columns have a walk-past/training crossing, at {} distinct alpha~/L~; a line needs two",
+            xy.len(),
+            cols.len(),
+            distinct.len()
+        ),
+        columns: cols,
+    }
     };
-    Ok(Fit {
+    if distinct.len() < 2 {
+        return Err(no_fit(cols));
+    }
+    let fit = |a, b, a_ci, b_ci, r2, scatter| Fit {
         a,
         b,
-        a_ci: percentile_95(&mut as_),
-        b_ci: percentile_95(&mut bs),
+        a_ci,
+        b_ci,
         r2,
         paper_a: PAPER_A,
         paper_b: PAPER_B,
         bootstrap: resamples,
-        columns: cols,
-    })
+        method,
+        scatter,
+        columns: cols.clone(),
+    };
+    match method {
+        Method::Interpolate => match least_squares(&xy) {
+            Some((a, b, r2)) => Ok(fit(
+                a,
+                b,
+                percentile_95(&mut as_),
+                percentile_95(&mut bs),
+                r2,
+                None,
+            )),
+            None => Err(no_fit(cols)),
+        },
+        Method::Model => match line_from_columns(&cols, resamples, seed) {
+            Some(l) => Ok(fit(l.a, l.b, l.a_ci, l.b_ci, l.r2, Some(l.scatter))),
+            None => Err(no_fit(cols)),
+        },
+    }
 }
 
 /// One bootstrap resample: each point's n_walk - n_train with its replicates redrawn from its

@@ -7,9 +7,11 @@
 //!   ([`wilson`], [`clopper_pearson`]);
 //! - where each point stands under an adaptive rule ([`assess`] on [`PointEnds`] gives an
 //!   [`Assessment`]: open, settled or at its budget, and the next round);
+//! - beta* of one column from a logistic model of the whole column ([`fit_column`] on
+//!   [`Tally`]s gives a [`ColumnModel`] with its profile-likelihood interval, or why none);
 //! - the transition line beta_crit = a alpha~/L~ + b over the diagrams' columns ([`fit_line`]
-//!   gives a [`Fit`] with bootstrap intervals), and the shift between two sigmas
-//!   ([`measure_shift`]);
+//!   gives a [`Fit`], its columns read by [`Method::Model`] or the paper's
+//!   [`Method::Interpolate`]), and the shift between two sigmas ([`measure_shift`]);
 //! - two result sets compared point by point ([`compare`] gives a [`Comparison`]);
 //! - a run's throughput and ETA ([`throughput`]).
 //!
@@ -19,17 +21,21 @@
 
 pub mod adaptive;
 pub mod binomial;
+pub mod column_model;
 pub mod compare;
 pub mod counts;
+pub mod distributions;
 pub mod end;
 pub mod fit;
+mod model_line;
 pub mod shift;
 pub mod throughput;
 
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use binomial::clopper_pearson;
+pub use column_model::{fit_column, ColumnModel, NoModelCrossing, Tally};
 pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
 pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, Replicate};
-pub use fit::{fit_line, Column, Fit, NoFit, Scales};
+pub use fit::{fit_line, Column, Fit, Method, NoFit, Scales};
 pub use shift::{measure_shift, Shift};

@@ -5,15 +5,21 @@
 //! sigma = 5 columns (x = alpha~ / L~, no shift), then the sigma = 0 columns are fitted with
 //! that line moved by one free delta in alpha, beta*(sigma 0) = a x(alpha + delta, L) + b.
 //! With k(L) = dx/dalpha and r = beta* - a x(alpha, L) - b, least squares gives
-//! delta = sum k r / (a sum k^2). The bootstrap redraws the replicates of every point of both
-//! sigmas and refits the three numbers together.
+//! delta = sum k r / (a sum k^2).
+//!
+//! With the column model (the default), the sigma = 5 line is weighted by the columns'
+//! intervals as in `model_line`, delta's sum too (weights 1 / s_c^2), and delta's
+//! interval comes from draws of every column's beta* from its interval, widened by Birge's
+//! ratio of the residuals about the three-number model. With interpolation, the bootstrap
+//! redraws the replicates of every point of both sigmas and refits the three numbers together.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::counts::Counts;
-use crate::fit::{columns, least_squares, percentile_95, resample_diffs, Column, Scales};
+use crate::fit::{columns, percentile_95, read_columns, resample_diffs, Column, Method, Scales};
+use crate::model_line::{birge, weighted_line, Crossing};
 
 /// The paper's shift (its appendix): 0.0134 in alpha from sigma = 5 to sigma = 0.
 pub const PAPER_SHIFT: f64 = 0.0134;
@@ -32,45 +38,72 @@ pub struct Shift {
     pub columns_sigma5: usize,
     pub columns_sigma0: usize,
     pub bootstrap: usize,
+    /// How the columns' beta* were read.
+    #[serde(default = "interpolate")]
+    pub method: Method,
 }
 
-/// (a, b, delta) of one set of columns: None without a sigma = 5 line or a sigma = 0 crossing.
-fn solve(cols: &[Column], scales: &Scales) -> Option<(f64, f64, f64)> {
+fn interpolate() -> Method {
+    Method::Interpolate
+}
+
+/// (a, b, delta) of one set of columns, each with its weight (`weight` gives None for a
+/// column to leave out): None without a sigma = 5 line or a sigma = 0 crossing.
+fn solve(cols: &[Column], scales: &Scales, weight: &Weight) -> Option<(f64, f64, f64)> {
     // x without any adhesion correction is the sigma = 5 x (the shift is what is measured).
     let raw = |c: &Column| scales.x(c.alpha, c.L, 5.0);
-    let five: Vec<(f64, f64)> = cols
+    let five: Vec<(f64, f64, f64)> = cols
         .iter()
         .filter(|c| c.sigma == 5.0)
-        .filter_map(|c| c.beta_star.map(|b| (raw(c), b)))
+        .filter_map(|c| Some((raw(c), c.beta_star?, weight(c)?)))
         .collect();
-    let (a, b, _) = least_squares(&five)?;
+    let (a, b) = weighted_line(&five)?;
     let (mut num, mut den) = (0.0, 0.0);
     for c in cols.iter().filter(|c| c.sigma == 0.0) {
-        if let Some(star) = c.beta_star {
+        if let (Some(star), Some(w)) = (c.beta_star, weight(c)) {
             let k = scales.x(1.0, c.L, 5.0) - scales.x(0.0, c.L, 5.0);
-            num += k * (star - a * raw(c) - b);
-            den += k * k;
+            num += w * k * (star - a * raw(c) - b);
+            den += w * k * k;
         }
     }
     (den > 0.0 && a.abs() > 1e-12).then(|| (a, b, num / (a * den)))
 }
 
+/// A column's weight in the fit, None to leave it out.
+type Weight<'a> = dyn Fn(&Column) -> Option<f64> + 'a;
+
+/// The model's weight of a column: 1 / sd^2 of its interval.
+fn model_weight(c: &Column) -> Option<f64> {
+    Crossing::of(c).map(|x| 1.0 / x.sd().max(1e-3).powi(2))
+}
+
 /// The shift measured from `counts` (points at sigma 5 and 0, any L; others are ignored),
-/// with `resamples` bootstrap resamples. None when either sigma has too few crossings.
+/// the columns read by `method`, with `resamples` bootstrap resamples or draws. None when
+/// either sigma has too few crossings.
 pub fn measure_shift(
     counts: &[Counts],
     scales: &Scales,
     resamples: usize,
     seed: u64,
+    method: Method,
 ) -> Option<Shift> {
     let counts: Vec<Counts> = counts
         .iter()
         .filter(|c| c.sigma == 5.0 || c.sigma == 0.0)
         .cloned()
         .collect();
-    let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
-    let cols = columns(&counts, scales, &observed);
-    let (a, b, delta) = solve(&cols, scales)?;
+    let unweighted = |c: &Column| c.beta_star.map(|_| 1.0);
+    let (cols, weight): (Vec<Column>, &Weight<'_>) = match method {
+        Method::Interpolate => {
+            let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
+            (columns(&counts, scales, &observed), &unweighted)
+        }
+        Method::Model => (
+            read_columns(&counts, scales, 0, seed, method).0,
+            &model_weight,
+        ),
+    };
+    let (a, b, delta) = solve(&cols, scales, weight)?;
     let used = |s: f64| {
         cols.iter()
             .filter(|c| c.sigma == s && c.beta_star.is_some())
@@ -78,10 +111,38 @@ pub fn measure_shift(
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut deltas = Vec::new();
-    for _ in 0..resamples {
-        let diffs = resample_diffs(&counts, &mut rng);
-        if let Some((_, _, d)) = solve(&columns(&counts, scales, &|i| diffs[i]), scales) {
-            deltas.push(d);
+    match method {
+        Method::Interpolate => {
+            for _ in 0..resamples {
+                let diffs = resample_diffs(&counts, &mut rng);
+                let cols_b = columns(&counts, scales, &|i| diffs[i]);
+                if let Some((_, _, d)) = solve(&cols_b, scales, &unweighted) {
+                    deltas.push(d);
+                }
+            }
+        }
+        Method::Model => {
+            let widen = model_scatter(&cols, scales, (a, b, delta));
+            for _ in 0..resamples {
+                let drawn: Vec<Column> = cols
+                    .iter()
+                    .map(|c| {
+                        let mut d = c.clone();
+                        d.beta_star = Crossing::of(c).map(|x| x.draw(&mut rng, widen));
+                        d
+                    })
+                    .collect();
+                // The weights stay those of the observed columns.
+                let w = |c: &Column| {
+                    let obs = cols
+                        .iter()
+                        .find(|o| (o.L, o.sigma, o.alpha) == (c.L, c.sigma, c.alpha))?;
+                    model_weight(obs)
+                };
+                if let Some((_, _, d)) = solve(&drawn, scales, &w) {
+                    deltas.push(d);
+                }
+            }
         }
     }
     Some(Shift {
@@ -93,7 +154,23 @@ pub fn measure_shift(
         columns_sigma5: used(5.0),
         columns_sigma0: used(0.0),
         bootstrap: resamples,
+        method,
     })
+}
+
+/// Birge's ratio of the columns about the fitted three-number model (a, b, delta).
+fn model_scatter(cols: &[Column], scales: &Scales, (a, b, delta): (f64, f64, f64)) -> f64 {
+    let residuals = cols.iter().filter_map(|c| {
+        let x = Crossing::of(c)?;
+        let alpha = if c.sigma == 0.0 {
+            c.alpha + delta
+        } else {
+            c.alpha
+        };
+        let line = a * scales.x(alpha, c.L, 5.0) + b;
+        Some((x.star - line) / x.sd().max(1e-3))
+    });
+    birge(residuals, 3)
 }
 
 #[cfg(test)]
@@ -128,7 +205,7 @@ mod tests {
                 counts.extend(column(l, 0.0, alpha, 0.6 * x(alpha + 0.02, l) - 12.0));
             }
         }
-        let m = measure_shift(&counts, &s, 50, 1).unwrap();
+        let m = measure_shift(&counts, &s, 50, 1, Method::Interpolate).unwrap();
         assert!(
             (m.a - 0.6).abs() < 1e-9 && (m.b + 12.0).abs() < 1e-6,
             "{m:?}"
@@ -142,6 +219,6 @@ mod tests {
     #[test]
     fn no_sigma_zero_crossing_means_no_shift() {
         let counts = column(90, 5.0, 0.1, 20.0);
-        assert!(measure_shift(&counts, &Scales::default(), 10, 1).is_none());
+        assert!(measure_shift(&counts, &Scales::default(), 10, 1, Method::Interpolate).is_none());
     }
 }

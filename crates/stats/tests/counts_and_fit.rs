@@ -1,6 +1,6 @@
 //! Labels at their edges, Wilson intervals, and the beta_crit fit on synthetic counts.
 
-use cellsweep_stats::{fit_line, wilson, Counts, Label, Scales};
+use cellsweep_stats::{fit_line, wilson, Counts, Label, Method, Scales};
 
 fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
     Counts {
@@ -102,7 +102,7 @@ fn synthetic(a: f64, b: f64) -> Vec<Counts> {
 #[test]
 fn the_fit_recovers_a_known_line_and_reports_unusable_columns() {
     let data = synthetic(0.6, -12.0);
-    let fit = fit_line(&data, &Scales::default(), 200, 7).unwrap();
+    let fit = fit_line(&data, &Scales::default(), 200, 7, Method::Interpolate).unwrap();
     assert!((fit.a - 0.6).abs() < 0.02, "a = {}", fit.a);
     assert!((fit.b + 12.0).abs() < 1.5, "b = {}", fit.b);
     assert!(fit.r2 > 0.99);
@@ -131,12 +131,41 @@ fn the_fit_recovers_a_known_line_and_reports_unusable_columns() {
 }
 
 #[test]
+fn the_column_model_recovers_the_same_line_with_intervals_that_hold_it() {
+    let data = synthetic(0.6, -12.0);
+    let fit = fit_line(&data, &Scales::default(), 300, 7, Method::Model).unwrap();
+    assert_eq!(fit.method, Method::Model);
+    assert!((fit.a - 0.6).abs() < 0.01, "a = {}", fit.a);
+    assert!((fit.b + 12.0).abs() < 0.6, "b = {}", fit.b);
+    assert!(fit.a_ci[0] <= 0.6 && 0.6 <= fit.a_ci[1], "{:?}", fit.a_ci);
+    assert!(
+        fit.b_ci[0] <= -12.0 && -12.0 <= fit.b_ci[1],
+        "{:?}",
+        fit.b_ci
+    );
+    let scales = Scales::default();
+    for c in &fit.columns {
+        // Every column keeps its interpolated crossing beside the model's.
+        assert_eq!(c.method, Method::Model);
+        let truth = 0.6 * scales.x(c.alpha, c.L, 5.0) - 12.0;
+        match (c.beta_star, c.beta_ci) {
+            (Some(b), Some(ci)) => {
+                assert!(ci[0] <= truth && truth <= ci[1], "{c:?}, truth {truth}");
+                assert!((b - truth).abs() < 0.5, "{c:?}, truth {truth}");
+            }
+            // No crossing given where the truth lies beyond the rows (or by their edge).
+            _ => assert!(!(14.0..=46.0).contains(&truth), "{c:?}, truth {truth}"),
+        }
+    }
+}
+
+#[test]
 fn a_fit_without_two_usable_columns_says_why() {
     let data: Vec<Counts> = synthetic(0.6, -12.0)
         .into_iter()
         .filter(|c| c.L == 90 && c.alpha == 0.1)
         .collect();
-    let no = fit_line(&data, &Scales::default(), 10, 1).unwrap_err();
+    let no = fit_line(&data, &Scales::default(), 10, 1, Method::Interpolate).unwrap_err();
     assert!(no.reason.contains("a line needs two"), "{}", no.reason);
     assert_eq!(no.columns.len(), 1);
     assert!(no.columns[0].beta_star.is_some());

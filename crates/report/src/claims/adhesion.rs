@@ -174,8 +174,8 @@ pub(super) fn shift(an: &Analysis<'_>) -> Claim {
         "Section 3.3 and Appendix C",
         "The absence of cell-cell adhesion shifts the transition line leftward to smaller α by \
          an amount of 0.0134.",
-        "the σ = 0 crossings fitted as the σ = 5 line moved by δ in α (bootstrap 95% \
-         interval): reproduced when the interval holds 0.0134 and lies above 0; partly when \
+        "the σ = 0 crossings fitted as the σ = 5 line moved by δ in α (β* from each \
+         column's model, 95% interval): reproduced when the interval holds 0.0134 and lies above 0; partly when \
          δ > 0 otherwise; else not.",
     );
     let Some(sh) = &an.shift else {

@@ -9,7 +9,8 @@ pub(super) fn global_fit(an: &Analysis<'_>) -> Claim {
         "Section 3.3, Eq. (13)",
         "β_crit = 0.6 α̃/L̃ − 12 provides a good global description of the transition between \
          walk-past and training in Fig. 3 and 4 (and also A1).",
-        "the line fitted over every spacing at σ = 5 (bootstrap 95% intervals): reproduced when \
+        "the line fitted over every spacing at σ = 5 (β* from each column's model, 95% \
+         intervals): reproduced when \
          both intervals hold the paper's values, R² ≥ 0.8 and all three spacings are in; \
          partly when one interval holds it or a spacing is missing; else not.",
     );

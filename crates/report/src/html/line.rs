@@ -43,24 +43,58 @@ pub(super) fn fit_row(h: &mut String, what: &str, fit: &Result<Fit, NoFit>, pape
     }
 }
 
+/// How the section's numbers are made, in words.
+fn how_the_line_is_read() -> String {
+    format!(
+        "Per α column of each diagram, β* is where walk-past and training are equally \
+         frequent. <b>Model</b> (primary): the fraction of walk-past among a point's walk-past \
+         and training ends is fitted as a logistic curve in β over the whole column (binomial \
+         maximum likelihood; reversals, undetermined ends and breakups left out), β* is its \
+         midpoint, and its 95% interval the profile likelihood's, widened by the dispersion \
+         where the deviance shows lack of fit; a column gets a β* only when that interval is \
+         closed inside the β it sampled. The line is fitted to the β* of every spacing by \
+         least squares weighted by their intervals, its intervals from {RESAMPLES} draws of \
+         every β* from its interval (widened by the columns' scatter about the line where it \
+         exceeds their intervals). <b>Interpolation</b> (the paper's reading, beside): the \
+         sign change of n<sub>walk</sub> − n<sub>train</sub> between grid rows, the line by \
+         least squares, intervals by {RESAMPLES} bootstrap resamples over replicates; where \
+         the frequencies change between two rows 4 apart, the interpolated crossing can sit up \
+         to 2 from the true one without the bootstrap seeing it. α̃ = 2π R<sub>0</sub> d \
+         α<sub>eff</sub> / ε<sub>0</sub>, L̃ = L / R<sub>0</sub>; at σ = 0, α<sub>eff</sub> = \
+         α + 0.0134 (the paper's shift), so a line that agrees with the paper's at both σ has \
+         the same a and b. The simulation behind the model's intervals is in \
+         <code>docs/line.md</code>."
+    )
+}
+
 pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
     let _ = write!(
         h,
-        "<h2 id=\"fit\">The transition line β<sub>crit</sub> = a α̃/L̃ + b</h2>\n\
-         <p>Per α column of each diagram, β* is where n<sub>walk</sub> − n<sub>train</sub> \
-         changes sign as β rises (linear interpolation); the line is fitted to the β* of every \
-         spacing by least squares, with α̃ = 2π R<sub>0</sub> d α<sub>eff</sub> / ε<sub>0</sub> \
-         and L̃ = L / R<sub>0</sub>. At σ = 0, α<sub>eff</sub> = α + 0.0134 (the paper's \
-         shift), so a line that agrees with the paper's at both σ has the same a and b. \
-         Intervals: 95% from {RESAMPLES} bootstrap resamples over replicates, each point \
-         redrawn with its own n. They cover the sampling noise only: where the frequencies jump \
-         between two β rows 4 apart, the interpolated crossing can sit up to 2 from the true one \
-         without the bootstrap seeing it.</p>\n<table>\n<tr><th></th><th>a</th><th>b</th><th>R²</th>\
-         <th>columns with a crossing</th><th>paper</th></tr>\n"
+        "<h2 id=\"fit\">The transition line β<sub>crit</sub> = a α̃/L̃ + b</h2>\n<p>{}</p>\n\
+         <table>\n<tr><th></th><th>a</th><th>b</th><th>R²</th><th>columns with a crossing</th>\
+         <th>paper</th></tr>\n",
+        how_the_line_is_read()
     );
     for (sigma, what, fit, paper) in [
-        (5.0, "σ = 5, every L", &an.fit5, "a = 0.6, b = −12"),
-        (0.0, "σ = 0, every L (shifted α)", &an.fit0, "the same line"),
+        (5.0, "σ = 5, every L: model", &an.fit5, "a = 0.6, b = −12"),
+        (
+            5.0,
+            "σ = 5, every L: interpolation",
+            &an.fit5_interpolated,
+            "a = 0.6, b = −12",
+        ),
+        (
+            0.0,
+            "σ = 0, every L (shifted α): model",
+            &an.fit0,
+            "the same line",
+        ),
+        (
+            0.0,
+            "σ = 0, every L (shifted α): interpolation",
+            &an.fit0_interpolated,
+            "the same line",
+        ),
     ] {
         if an.collection.diagrams.iter().any(|s| s.key.sigma == sigma) {
             fit_row(h, what, fit, paper);
@@ -72,14 +106,20 @@ pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
         }
     }
     h.push_str("</table>\n");
-    match &an.shift {
-        Some(s) => {
+    match (&an.shift, &an.shift_interpolated) {
+        (Some(s), interpolated) => {
+            let beside = interpolated.as_ref().map_or(String::new(), |i| {
+                format!(
+                    " (by interpolation: δ = {})",
+                    interval(i.delta, i.delta_ci, 4)
+                )
+            });
             let _ = writeln!(
                 h,
                 "<p><b>The shift from σ = 5 to σ = 0</b>, measured without assuming it: the σ = 0 \
                  crossings fitted as the σ = 5 line (a = {:.3}, b = {:.1}, unshifted α) moved \
                  to smaller α by one δ for every L: <b>δ = {}</b> from {} columns at σ = 5 and \
-                 {} at σ = 0, against the paper's {}.</p>",
+                 {} at σ = 0{beside}, against the paper's {}.</p>",
                 s.a,
                 s.b,
                 interval(s.delta, s.delta_ci, 4),
@@ -88,7 +128,7 @@ pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
                 s.paper_delta
             );
         }
-        None => h.push_str(
+        (None, _) => h.push_str(
             "<p><b>The shift from σ = 5 to σ = 0</b> needs crossings at both σ: not measured \
              yet.</p>\n",
         ),
@@ -106,8 +146,10 @@ pub(super) fn star_cell(c: &Column) -> String {
 
 pub(super) fn columns_section(h: &mut String, an: &Analysis<'_>) {
     h.push_str(
-        "<h2 id=\"columns\">β* per column</h2>\n<p>With 95% bootstrap intervals (shown where at \
-         least half the resamples have a crossing), beside the paper's line at that α.</p>\n",
+        "<h2 id=\"columns\">β* per column</h2>\n<p>By the column model with its 95% \
+         profile-likelihood interval (or why it gives none), by interpolation with its 95% \
+         bootstrap interval (shown where at least half the resamples have a crossing), and the \
+         paper's line at that α.</p>\n",
     );
     if an.per_diagram.is_empty() {
         h.push_str("<p>No diagram yet.</p>\n");
@@ -126,9 +168,18 @@ pub(super) fn columns_section(h: &mut String, an: &Analysis<'_>) {
         for c in cols {
             let _ = write!(h, "<th>{}</th>", c.alpha);
         }
-        h.push_str("</tr>\n<tr><td>β* (data)</td>");
+        h.push_str("</tr>\n<tr><td>β* (model)</td>");
         for c in cols {
             let _ = write!(h, "<td class=\"num\">{}</td>", star_cell(c));
+        }
+        h.push_str("</tr>\n<tr><td>β* (interpolated)</td>");
+        for c in cols {
+            let cell = match (c.interpolated, c.interpolated_ci) {
+                (Some(b), Some(ci)) => interval(b, ci, 1),
+                (Some(b), None) => format!("{b:.1}"),
+                (None, _) => "–".into(),
+            };
+            let _ = write!(h, "<td class=\"num\">{cell}</td>");
         }
         h.push_str("</tr>\n<tr><td>paper's line</td>");
         for c in cols {

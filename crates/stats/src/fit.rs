@@ -260,7 +260,7 @@ pub(crate) fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
 }
 
 /// The walk-past and training counts of each collided point of column `c`.
-fn tallies(counts: &[Counts], c: &Column) -> Vec<Tally> {
+pub(crate) fn tallies(counts: &[Counts], c: &Column) -> Vec<Tally> {
     counts
         .iter()
         .filter(|p| p.L == c.L && p.sigma == c.sigma && p.alpha == c.alpha && p.collided())

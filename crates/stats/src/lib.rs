@@ -12,6 +12,8 @@
 //! - the transition line beta_crit = a alpha~/L~ + b over the diagrams' columns ([`fit_line`]
 //!   gives a [`Fit`], its columns read by [`Method::Model`] or the paper's
 //!   [`Method::Interpolate`]), and the shift between two sigmas ([`measure_shift`]);
+//! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
+//!   [`ColumnNeed`]);
 //! - two result sets compared point by point ([`compare`] gives a [`Comparison`]);
 //! - a run's throughput and ETA ([`throughput`]).
 //!
@@ -28,6 +30,7 @@ pub mod distributions;
 pub mod end;
 pub mod fit;
 mod model_line;
+pub mod refine;
 pub mod shift;
 pub mod throughput;
 
@@ -38,4 +41,5 @@ pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
 pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, Replicate};
 pub use fit::{fit_line, Column, Fit, Method, NoFit, Scales};
+pub use refine::{ColumnNeed, RefineRule};
 pub use shift::{measure_shift, Shift};

@@ -1,0 +1,277 @@
+//! Refinement in parameter space (SPEC section 6, "Refinement"): where a column's beta* is not
+//! yet known to the width asked, which new beta values a round adds.
+//!
+//! The information a point at beta carries about the crossing of a logistic column is
+//! k^2 m p (1 - p) (the Fisher information of beta* at p = sigma(k (beta - beta*))): largest
+//! where p = 1/2, that is at beta* itself, and falling off on either side. So a round adds the
+//! values on the `step` lattice nearest to the current beta*, inside its 95% interval, that the
+//! column does not hold yet: nearest first, up to `per_round` of them, and never past the
+//! column's budget of `max_new` added values. The grid's own values are never removed, and a
+//! value is added once.
+
+use serde::{Deserialize, Serialize};
+
+use crate::column_model::{fit_column, ColumnModel, NoModelCrossing};
+use crate::counts::Counts;
+use crate::fit::{columns, tallies, Scales};
+
+/// One column's next round.
+#[derive(Debug, Clone, PartialEq)]
+#[allow(non_snake_case)]
+pub struct ColumnRound {
+    pub L: u32,
+    pub sigma: f64,
+    pub alpha: f64,
+    pub need: ColumnNeed,
+}
+
+/// A sweep's refinement rule (its `[refine]` table).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RefineRule {
+    /// Stop once the 95% interval of beta* is at most this wide.
+    pub width: f64,
+    /// New values lie on multiples of this step.
+    pub step: f64,
+    /// At most this many values added to one column, over all rounds.
+    pub max_new_per_column: u32,
+    /// At most this many values added to one column in one round.
+    pub per_round: u32,
+}
+
+/// What a column needs next.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColumnNeed {
+    /// Its interval is at most `width` wide: done.
+    Narrow { width: f64 },
+    /// New beta values for the next round, nearest the crossing first.
+    Add(Vec<f64>),
+    /// Wider than asked, but its budget of added values is spent.
+    Budget { width: f64 },
+    /// Wider than asked, but every value on the step lattice inside its interval is present:
+    /// only more replicates (or a finer step) can narrow it.
+    Lattice { width: f64 },
+    /// No crossing to refine (the model's reason): refinement adds values only inside a
+    /// crossing's interval.
+    NoCrossing(String),
+}
+
+impl RefineRule {
+    /// The rule's own checks: a positive width and step, a budget of at least one value.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.width.is_finite() && self.width > 0.0) {
+            return Err(format!("width = {} must be a number > 0", self.width));
+        }
+        if !(self.step.is_finite() && self.step > 0.0) {
+            return Err(format!("step = {} must be a number > 0", self.step));
+        }
+        if self.per_round == 0 || self.max_new_per_column == 0 {
+            return Err("per_round and max_new_per_column must be at least 1".into());
+        }
+        Ok(())
+    }
+
+    /// The next round of one column: its model (or why it has none), the beta values it holds
+    /// (the grid's and those added before), and how many of them earlier rounds added.
+    pub fn need(
+        &self,
+        model: &Result<ColumnModel, NoModelCrossing>,
+        present: &[f64],
+        added: u32,
+    ) -> ColumnNeed {
+        let m = match model {
+            Ok(m) => m,
+            Err(why) => return ColumnNeed::NoCrossing(why.to_string()),
+        };
+        let width = m.ci[1] - m.ci[0];
+        if width <= self.width {
+            return ColumnNeed::Narrow { width };
+        }
+        if added >= self.max_new_per_column {
+            return ColumnNeed::Budget { width };
+        }
+        let room = (self.max_new_per_column - added).min(self.per_round) as usize;
+        let held = |b: f64| {
+            present
+                .iter()
+                .any(|&p| (p - b).abs() <= 1e-9 * self.step.max(1.0))
+        };
+        // The lattice values strictly inside the interval, nearest beta* first.
+        let (first, last) = (
+            (m.ci[0] / self.step).floor() as i64 + 1,
+            (m.ci[1] / self.step).ceil() as i64 - 1,
+        );
+        let mut candidates: Vec<f64> = (first..=last)
+            .map(|j| snap(j as f64 * self.step))
+            .filter(|&b| b > m.ci[0] && b < m.ci[1] && !held(b))
+            .collect();
+        candidates.sort_by(|a, b| {
+            (a - m.beta_star)
+                .abs()
+                .total_cmp(&(b - m.beta_star).abs())
+                .then(a.total_cmp(b))
+        });
+        candidates.truncate(room);
+        if candidates.is_empty() {
+            return ColumnNeed::Lattice { width };
+        }
+        candidates.sort_by(f64::total_cmp);
+        ColumnNeed::Add(candidates)
+    }
+}
+
+/// The next round of every (L, sigma, alpha) column of `counts`; `added` says how many values
+/// earlier rounds added to a column.
+pub fn plan_round(
+    counts: &[Counts],
+    rule: &RefineRule,
+    added: &dyn Fn(u32, f64, f64) -> u32,
+) -> Vec<ColumnRound> {
+    columns(counts, &Scales::default(), &|_| 0)
+        .into_iter()
+        .map(|c| {
+            let present: Vec<f64> = counts
+                .iter()
+                .filter(|p| (p.L, p.sigma, p.alpha) == (c.L, c.sigma, c.alpha))
+                .map(|p| p.beta)
+                .collect();
+            let model = fit_column(&tallies(counts, &c));
+            ColumnRound {
+                L: c.L,
+                sigma: c.sigma,
+                alpha: c.alpha,
+                need: rule.need(&model, &present, added(c.L, c.sigma, c.alpha)),
+            }
+        })
+        .collect()
+}
+
+/// j x step without its float noise (0.1 x 3 = 0.30000000000000004 becomes 0.3), so that a
+/// value added by refinement is the very number a sweep file listing it would give.
+fn snap(v: f64) -> f64 {
+    format!("{v:.9}").parse().unwrap_or(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model(star: f64, lo: f64, hi: f64) -> Result<ColumnModel, NoModelCrossing> {
+        Ok(ColumnModel {
+            beta_star: star,
+            ci: [lo, hi],
+            slope: 0.3,
+            points: 8,
+            deviance: 4.0,
+            df: 6,
+            fit_p: Some(0.7),
+            dispersion: 1.0,
+            cut_at: None,
+        })
+    }
+
+    const RULE: RefineRule = RefineRule {
+        width: 1.0,
+        step: 0.5,
+        max_new_per_column: 6,
+        per_round: 2,
+    };
+
+    #[test]
+    fn a_round_adds_the_values_nearest_the_crossing_inside_its_interval() {
+        let grid = [10.0, 14.0, 18.0, 22.0, 26.0];
+        // beta* = 17.3 in [16.2, 18.6]: 17.5 and 17.0 are nearest; 18.0 is on the grid.
+        let need = RULE.need(&model(17.3, 16.2, 18.6), &grid, 0);
+        assert_eq!(need, ColumnNeed::Add(vec![17.0, 17.5]));
+        // With those present, the next two nearest.
+        let held = [10.0, 14.0, 17.0, 17.5, 18.0, 22.0, 26.0];
+        let need = RULE.need(&model(17.3, 16.4, 18.4), &held, 2);
+        assert_eq!(need, ColumnNeed::Add(vec![16.5]));
+    }
+
+    #[test]
+    fn a_column_stops_when_narrow_out_of_budget_or_out_of_lattice() {
+        let grid = [10.0, 14.0, 18.0];
+        assert_eq!(
+            RULE.need(&model(15.0, 14.6, 15.5), &grid, 0),
+            ColumnNeed::Narrow { width: 15.5 - 14.6 }
+        );
+        assert!(matches!(
+            RULE.need(&model(15.0, 13.0, 17.0), &grid, 6),
+            ColumnNeed::Budget { .. }
+        ));
+        // Only one slot left: one value.
+        assert_eq!(
+            RULE.need(&model(15.0, 13.0, 17.0), &grid, 5),
+            ColumnNeed::Add(vec![15.0])
+        );
+        let all = [14.0, 14.5, 15.0, 15.5, 16.0];
+        assert!(matches!(
+            RULE.need(&model(15.0, 14.2, 15.8), &all, 3),
+            ColumnNeed::Lattice { .. }
+        ));
+        let none: Result<ColumnModel, NoModelCrossing> = Err(NoModelCrossing::TrainEverywhere);
+        assert!(matches!(
+            RULE.need(&none, &grid, 0),
+            ColumnNeed::NoCrossing(_)
+        ));
+    }
+
+    #[test]
+    fn a_round_is_planned_per_column() {
+        // Walk-past rises through one half between beta = 18 and 22 at alpha = 0.1; alpha = 0.2
+        // trains everywhere.
+        let point = |alpha: f64, beta: f64, walk: u64| Counts {
+            n_walk: walk,
+            n_train: 96 - walk,
+            ..Counts::none(alpha, beta, 90, 5.0)
+        };
+        let mut counts = Vec::new();
+        for (beta, walk) in [
+            (10.0, 2),
+            (14.0, 10),
+            (18.0, 35),
+            (22.0, 62),
+            (26.0, 88),
+            (30.0, 95),
+        ] {
+            counts.push(point(0.1, beta, walk));
+            counts.push(point(0.2, beta, 0));
+        }
+        let plan = plan_round(&counts, &RULE, &|_, _, _| 0);
+        assert_eq!(plan.len(), 2);
+        let ColumnNeed::Add(v) = &plan[0].need else {
+            panic!("{plan:?}");
+        };
+        assert!(
+            v.len() == 2 && v.iter().all(|b| *b > 18.0 && *b < 22.0),
+            "{v:?}"
+        );
+        assert!(
+            matches!(plan[1].need, ColumnNeed::NoCrossing(_)),
+            "{plan:?}"
+        );
+    }
+
+    #[test]
+    fn added_values_are_the_numbers_a_sweep_file_would_list() {
+        let rule = RefineRule { step: 0.1, ..RULE };
+        let ColumnNeed::Add(v) = rule.need(&model(0.3, 0.05, 1.25), &[], 0) else {
+            panic!("a round was owed");
+        };
+        assert_eq!(v, vec![0.2, 0.3]);
+        assert!(RefineRule {
+            width: f64::NAN,
+            ..RULE
+        }
+        .check()
+        .is_err());
+        assert!(RefineRule { step: 0.0, ..RULE }.check().is_err());
+        assert!(RefineRule {
+            per_round: 0,
+            ..RULE
+        }
+        .check()
+        .is_err());
+        assert!(RULE.check().is_ok());
+    }
+}

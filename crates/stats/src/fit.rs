@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use crate::column_model::{fit_column, ColumnModel, Tally};
 use crate::counts::Counts;
-use crate::model_line::line_from_columns;
+use crate::model_line::{line_from_columns, standard_normal};
 
 /// How a column's beta* is read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -384,6 +384,11 @@ pub fn fit_line(
     }
 }
 
+/// Above this many collisions a point's resampled difference is drawn from its normal limit
+/// rather than replicate by replicate (which would take n draws per point per resample: a count
+/// of 10^9 would hold the fit for hours). Simulated and paper data sit far below it.
+const EXACT_RESAMPLE_MAX: u64 = 100_000;
+
 /// One bootstrap resample: each point's n_walk - n_train with its replicates redrawn from its
 /// observed outcome frequencies (n the point's collisions: each point keeps its own n).
 pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64> {
@@ -395,6 +400,14 @@ pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64
                 return 0;
             }
             let (pt, pw) = (c.n_train as f64 / n as f64, c.n_walk as f64 / n as f64);
+            if n > EXACT_RESAMPLE_MAX {
+                // d = sum of n draws of +1 (pw), -1 (pt), 0: mean n (pw - pt),
+                // variance n (pw + pt - (pw - pt)^2), clamped to [-n, n].
+                let (nf, m) = (n as f64, pw - pt);
+                let sd = (nf * (pw + pt - m * m)).max(0.0).sqrt();
+                let d = (nf * m + sd * standard_normal(rng)).round();
+                return d.clamp(-nf, nf) as i64;
+            }
             let mut d = 0i64;
             for _ in 0..n {
                 let u: f64 = rng.random();
@@ -417,4 +430,38 @@ pub(crate) fn percentile_95(v: &mut [f64]) -> [f64; 2] {
     v.sort_by(|a, b| a.total_cmp(b));
     let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
     [q(0.025), q(0.975)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point of `n` collisions, `w` walk-pasts and `t` trainings.
+    fn point(n: u64, w: u64, t: u64) -> Counts {
+        let mut c = Counts::none(0.1, 10.0, 90, 5.0);
+        (c.n_walk, c.n_train, c.n_reversal) = (w, t, n - w - t);
+        c
+    }
+
+    /// A count far past the exact draw resamples from the normal limit: every difference lies
+    /// in [-n, n], and their mean and spread are the multinomial's, n (pw - pt) and
+    /// sqrt(n (pw + pt - (pw - pt)^2)).
+    #[test]
+    fn huge_counts_resample_from_the_normal_limit() {
+        let n = 1_000_000_000u64;
+        let c = [point(n, n / 2, n / 4)];
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let d: Vec<f64> = (0..2000)
+            .map(|_| resample_diffs(&c, &mut rng)[0] as f64)
+            .collect();
+        assert!(d.iter().all(|x| x.abs() <= n as f64));
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (d.len() - 1) as f64).sqrt();
+        let want_sd = (n as f64 * (0.75 - 0.0625)).sqrt();
+        assert!((mean - n as f64 / 4.0).abs() < 4.0 * want_sd / (d.len() as f64).sqrt());
+        assert!((sd / want_sd - 1.0).abs() < 0.1, "sd {sd} vs {want_sd}");
+        // A point all one way stays all one way.
+        let all = [point(n, n, 0)];
+        assert_eq!(resample_diffs(&all, &mut rng), vec![n as i64]);
+    }
 }

@@ -19,7 +19,8 @@ use std::f64::consts::PI;
 
 use crate::column_model::{fit_column, ColumnModel, Tally};
 use crate::counts::Counts;
-use crate::model_line::{line_from_columns, standard_normal};
+use crate::model_line::{line_from_columns, Crossing};
+use crate::sampling::{percentile_95, standard_normal};
 
 /// How a column's beta* is read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -106,6 +107,18 @@ pub struct Column {
     /// The model's fit (slope, deviance, dispersion), where it gives a crossing.
     #[serde(default)]
     pub model: Option<ColumnModel>,
+}
+
+impl Column {
+    /// Its crossing with the spreads of its interval, where it has both.
+    pub(crate) fn crossing(&self) -> Option<Crossing> {
+        Some(Crossing::new(self.x, self.beta_star?, self.beta_ci?))
+    }
+}
+
+/// The crossings of the columns that have one.
+fn crossings(cols: &[Column]) -> Vec<Crossing> {
+    cols.iter().filter_map(Column::crossing).collect()
 }
 
 /// Columns written before the model read beta* by interpolation.
@@ -377,7 +390,7 @@ pub fn fit_line(
             )),
             None => Err(no_fit(cols)),
         },
-        Method::Model => match line_from_columns(&cols, resamples, seed) {
+        Method::Model => match line_from_columns(&crossings(&cols), resamples, seed) {
             Some(l) => Ok(fit(l.a, l.b, l.a_ci, l.b_ci, l.r2, Some(l.scatter))),
             None => Err(no_fit(cols)),
         },
@@ -420,16 +433,6 @@ pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64
             d
         })
         .collect()
-}
-
-/// The 2.5% and 97.5% percentiles of `v` (NaN for none).
-pub(crate) fn percentile_95(v: &mut [f64]) -> [f64; 2] {
-    if v.is_empty() {
-        return [f64::NAN, f64::NAN];
-    }
-    v.sort_by(|a, b| a.total_cmp(b));
-    let q = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
-    [q(0.025), q(0.975)]
 }
 
 #[cfg(test)]

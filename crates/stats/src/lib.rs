@@ -31,6 +31,7 @@ pub mod end;
 pub mod fit;
 mod model_line;
 pub mod refine;
+mod sampling;
 pub mod shift;
 pub mod throughput;
 

@@ -10,10 +10,10 @@
 //! b are the 2.5% and 97.5% percentiles over draws, each drawing every column's beta* from its
 //! (widened) split normal and refitting.
 
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::fit::{percentile_95, Column};
+use crate::sampling::{percentile_95, standard_normal};
 
 /// z of a two-sided 95% interval.
 const Z95: f64 = 1.959_963_984_540_054;
@@ -40,14 +40,14 @@ pub(crate) struct Crossing {
 }
 
 impl Crossing {
-    pub fn of(c: &Column) -> Option<Crossing> {
-        let (star, ci) = (c.beta_star?, c.beta_ci?);
-        Some(Crossing {
-            x: c.x,
+    /// The crossing at `x` of a beta* with its 95% interval `ci`.
+    pub fn new(x: f64, star: f64, ci: [f64; 2]) -> Crossing {
+        Crossing {
+            x,
             star,
             below: ((star - ci[0]) / Z95).max(0.0),
             above: ((ci[1] - star) / Z95).max(0.0),
-        })
+        }
     }
 
     /// The symmetric sd of the weights.
@@ -60,13 +60,6 @@ impl Crossing {
         let z = standard_normal(rng);
         self.star + z * widen * if z < 0.0 { self.below } else { self.above }
     }
-}
-
-/// One standard normal draw (Box-Muller).
-pub(crate) fn standard_normal(rng: &mut ChaCha8Rng) -> f64 {
-    let u: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
-    let v: f64 = rng.random();
-    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
 }
 
 /// Weighted least squares y = a x + b over (x, y, w); None without two distinct x.
@@ -109,8 +102,7 @@ pub(crate) fn birge(scaled_residuals: impl Iterator<Item = f64>, params: usize) 
 }
 
 /// The line through the columns' model crossings, with `draws` draws for its intervals.
-pub(crate) fn line_from_columns(cols: &[Column], draws: usize, seed: u64) -> Option<ModelLine> {
-    let cs: Vec<Crossing> = cols.iter().filter_map(Crossing::of).collect();
+pub(crate) fn line_from_columns(cs: &[Crossing], draws: usize, seed: u64) -> Option<ModelLine> {
     let pts: Vec<(f64, f64, f64)> = cs.iter().map(|c| (c.x, c.star, weight(c))).collect();
     let (a, b) = weighted_line(&pts)?;
     let scatter = birge(

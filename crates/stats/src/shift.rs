@@ -18,8 +18,9 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::counts::Counts;
-use crate::fit::{columns, percentile_95, read_columns, resample_diffs, Column, Method, Scales};
-use crate::model_line::{birge, weighted_line, Crossing};
+use crate::fit::{columns, read_columns, resample_diffs, Column, Method, Scales};
+use crate::model_line::{birge, weighted_line};
+use crate::sampling::percentile_95;
 
 /// The paper's shift (its appendix): 0.0134 in alpha from sigma = 5 to sigma = 0.
 pub const PAPER_SHIFT: f64 = 0.0134;
@@ -74,7 +75,7 @@ type Weight<'a> = dyn Fn(&Column) -> Option<f64> + 'a;
 
 /// The model's weight of a column: 1 / sd^2 of its interval.
 fn model_weight(c: &Column) -> Option<f64> {
-    Crossing::of(c).map(|x| 1.0 / x.sd().max(1e-3).powi(2))
+    c.crossing().map(|x| 1.0 / x.sd().max(1e-3).powi(2))
 }
 
 /// The shift measured from `counts` (points at sigma 5 and 0, any L; others are ignored),
@@ -128,7 +129,7 @@ pub fn measure_shift(
                     .iter()
                     .map(|c| {
                         let mut d = c.clone();
-                        d.beta_star = Crossing::of(c).map(|x| x.draw(&mut rng, widen));
+                        d.beta_star = c.crossing().map(|x| x.draw(&mut rng, widen));
                         d
                     })
                     .collect();
@@ -161,7 +162,7 @@ pub fn measure_shift(
 /// Birge's ratio of the columns about the fitted three-number model (a, b, delta).
 fn model_scatter(cols: &[Column], scales: &Scales, (a, b, delta): (f64, f64, f64)) -> f64 {
     let residuals = cols.iter().filter_map(|c| {
-        let x = Crossing::of(c)?;
+        let x = c.crossing()?;
         let alpha = if c.sigma == 0.0 {
             c.alpha + delta
         } else {

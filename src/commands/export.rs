@@ -51,13 +51,14 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
 pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     let file = args.file.display().to_string();
     let (sweep, mut rows) = read_export(&args.file)?;
-    let targets = import_targets(&file, &sweep, &mut rows)?;
+    let (points, targets) = import_targets(&file, &sweep, &mut rows)?;
     let _lock = StoreLock::acquire(&args.db.db)?;
     let db = &args.db.db;
     let existed = std::fs::metadata(db).is_ok_and(|m| m.len() > 0);
     let mut store = Store::open_or_create(db)?;
     store.check_integrity()?;
-    let done = store.atomically(|store| import_into(store, &file, &sweep, &rows, &targets));
+    let done =
+        store.atomically(|store| import_into(store, &file, &sweep, &rows, &points, &targets));
     if done.is_err() && !existed {
         // Nothing of it may stay: not even the empty store this import created.
         drop(store);
@@ -76,10 +77,14 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Every row's field check and point, and the replicates to register per point (at least its
-/// first round). Rows of an archived sweep (`NAME@ID`, a sweep set aside by `run --replace`)
+/// Every row's field check and point, the sweep's points (its grid's, then any its refinement
+/// added), and the replicates to register per point (at least its first round). Rows of an archived sweep (`NAME@ID`, a sweep set aside by `run --replace`)
 /// are the rows of the sweep its definition names. Two rows of one job must agree.
-fn import_targets(file: &str, sweep: &Sweep, rows: &mut [ExportRow]) -> anyhow::Result<Vec<u32>> {
+fn import_targets(
+    file: &str,
+    sweep: &Sweep,
+    rows: &mut [ExportRow],
+) -> anyhow::Result<(Vec<Params>, Vec<u32>)> {
     for r in rows.iter_mut() {
         if let Some((name, id)) = r.sweep.rsplit_once('@') {
             if name == sweep.name && !id.is_empty() && id.bytes().all(|b| b.is_ascii_digit()) {
@@ -87,7 +92,15 @@ fn import_targets(file: &str, sweep: &Sweep, rows: &mut [ExportRow]) -> anyhow::
             }
         }
     }
-    let points = sweep.points();
+    // The grid's points, then those a refinement added (refused if this sweep could not have).
+    let points = sweep
+        .points_with(rows.iter().map(|r| (r.alpha, r.beta, r.L, r.sigma)))
+        .map_err(|why| anyhow::anyhow!("{file}: {why}"))?;
+    let index: HashMap<_, usize> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (axes_key(p.alpha, p.beta, p.L, p.sigma), i))
+        .collect();
     let mut targets = vec![sweep.initial_replicates(); points.len()];
     let mut problems = Vec::new();
     let mut first_of: HashMap<(usize, u32), usize> = HashMap::new();
@@ -96,10 +109,8 @@ fn import_targets(file: &str, sweep: &Sweep, rows: &mut [ExportRow]) -> anyhow::
         for p in r.field_problems() {
             problems.push(format!("{at}: {p}"));
         }
-        let Some(i) = points
-            .iter()
-            .position(|p| (p.alpha, p.beta, p.L, p.sigma) == (r.alpha, r.beta, r.L, r.sigma))
-        else {
+        // (points_with holds every row's point.)
+        let Some(&i) = index.get(&axes_key(r.alpha, r.beta, r.L, r.sigma)) else {
             bail!(
                 "{file}: {at}: alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
                 r.alpha, r.beta, r.L, r.sigma, sweep.name
@@ -125,7 +136,12 @@ fn import_targets(file: &str, sweep: &Sweep, rows: &mut [ExportRow]) -> anyhow::
         }
     }
     refuse(file, rows.len(), &problems)?;
-    Ok(targets)
+    Ok((points, targets))
+}
+
+/// A point's axes, bit for bit.
+fn axes_key(alpha: f64, beta: f64, l: u32, sigma: f64) -> (u64, u64, u32, u64) {
+    (alpha.to_bits(), beta.to_bits(), l, sigma.to_bits())
 }
 
 /// Each result field in which `row` and `other` (of one job) differ, as a line naming the
@@ -166,9 +182,10 @@ fn import_into(
     file: &str,
     sweep: &Sweep,
     rows: &[ExportRow],
+    points: &[Params],
     targets: &[u32],
 ) -> anyhow::Result<(usize, usize)> {
-    let reg = store.register(&plan_targets(sweep, file, &|i| targets[i]), false)?;
+    let reg = store.register(&plan_targets(sweep, file, points, &|i| targets[i]), false)?;
     let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;
     compute_preps(store, &ledger, reg.sweep_id, rows)?;
     let defaults = serde_json::to_value(Params::default())?;

@@ -128,6 +128,14 @@ fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
             a.min_replicates, a.batch, a.error, a.max_replicates
         );
     }
+    if let Some(r) = &sweep.refine {
+        println!(
+            "  refine: once a column's points are finished, up to {} beta values per round on \
+             multiples of {} inside its 95% interval of beta*, until the interval is at most {} \
+             wide (at most {} values per column)",
+            r.per_round, r.step, r.width, r.max_new_per_column
+        );
+    }
     if let Some(from) = reg.grown_from {
         println!(
             "  from {from} replicates per point: the results already stored are kept, and only the \

@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod world;
+
 use std::path::{Path, PathBuf};
 
 /// An adaptive rule for tiny sweeps whose 2 tau0 collisions are always `undetermined`: with

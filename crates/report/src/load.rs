@@ -57,12 +57,11 @@ pub fn from_export(path: &Path) -> Result<Results, LoadError> {
 /// Counts, standings, each prep's free speed and provenance of a sweep's finished rows (from
 /// an export file or a store, named `source` in every message).
 fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results, LoadError> {
-    let (mut ends, index) = PointEnds::grid(
-        sweep
-            .points()
-            .iter()
-            .map(|p| (p.alpha, p.beta, p.L, p.sigma)),
-    );
+    // The grid's points, then any its refinement added.
+    let points = sweep
+        .points_with(rows.iter().map(|r| (r.alpha, r.beta, r.L, r.sigma)))
+        .map_err(|why| LoadError::Invalid(format!("{source}: {why}")))?;
+    let (mut ends, index) = PointEnds::grid(points.iter().map(|p| (p.alpha, p.beta, p.L, p.sigma)));
     // Each distinct prep's free speed (a point's replicates share their preps round-robin).
     let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];
     for r in rows {

@@ -16,6 +16,7 @@ pub mod limits;
 pub mod lock;
 pub mod plan;
 pub mod pool;
+pub mod refinement;
 pub mod reserve;
 pub mod run_dir;
 pub mod slurm;

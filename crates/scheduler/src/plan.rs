@@ -56,17 +56,25 @@ pub fn job_seed(sweep_seed: u64, params: &Params, replicate: u32) -> u64 {
 /// The rows to register for `sweep`, read from `source`: every replicate, or an adaptive
 /// sweep's first round.
 pub fn plan(sweep: &Sweep, source: &str) -> NewSweep {
-    plan_targets(sweep, source, &|_| sweep.initial_replicates())
+    plan_targets(sweep, source, &sweep.points(), &|_| {
+        sweep.initial_replicates()
+    })
 }
 
-/// The rows to register for `sweep` with `target(point index)` replicates at each point (the
-/// first ones, in index order; more than the budget are never planned).
-pub fn plan_targets(sweep: &Sweep, source: &str, target: &dyn Fn(usize) -> u32) -> NewSweep {
+/// The rows to register for `sweep` at `points` (its grid's, then any its refinement added;
+/// see [`Sweep::points_with`]) with `target(point index)` replicates at each point (the first
+/// ones, in index order; more than the budget are never planned).
+pub fn plan_targets(
+    sweep: &Sweep,
+    source: &str,
+    points: &[Params],
+    target: &dyn Fn(usize) -> u32,
+) -> NewSweep {
     let mut preps: Vec<NewPrep> = Vec::new();
     let mut prep_index: HashMap<(String, u32), usize> = HashMap::new();
-    let mut points = Vec::new();
-    for (idx, params) in sweep.points().into_iter().enumerate() {
-        let key = prep_key(&params, &sweep.protocol);
+    let mut rows = Vec::new();
+    for (idx, params) in points.iter().enumerate() {
+        let key = prep_key(params, &sweep.protocol);
         let config = Config {
             params: params.clone(),
             protocol: sweep.protocol.clone(),
@@ -89,11 +97,11 @@ pub fn plan_targets(sweep: &Sweep, source: &str, target: &dyn Fn(usize) -> u32) 
         let jobs = (0..target(idx).min(sweep.replicates))
             .map(|r| NewJob {
                 replicate: r,
-                seed: job_seed(sweep.seed, &params, r),
+                seed: job_seed(sweep.seed, params, r),
                 prep: own_preps[(r % sweep.preps_per_point) as usize],
             })
             .collect();
-        points.push(NewPoint {
+        rows.push(NewPoint {
             alpha: params.alpha,
             beta: params.beta,
             spacing: params.L,
@@ -108,6 +116,6 @@ pub fn plan_targets(sweep: &Sweep, source: &str, target: &dyn Fn(usize) -> u32) 
         source: source.to_string(),
         solver_version: SOLVER_VERSION.to_string(),
         preps,
-        points,
+        points: rows,
     }
 }

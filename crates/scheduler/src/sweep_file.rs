@@ -33,6 +33,7 @@ pub struct SweepFile {
     pub protocol: Option<ProtocolFile>,
     pub classifier: Option<ClassifierSettings>,
     pub adaptive: Option<AdaptiveFile>,
+    pub refine: Option<RefineFile>,
     pub run: Option<RunFile>,
 }
 
@@ -79,6 +80,17 @@ pub struct AdaptiveFile {
     pub min_replicates: Option<Whole>,
     pub max_replicates: Option<Whole>,
     pub error: Option<Real>,
+}
+
+/// `[refine]`: beta values added where a column's crossing lies (SPEC section 6).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineFile {
+    pub axis: Option<String>,
+    pub width: Option<Real>,
+    pub step: Option<Real>,
+    pub max_new_per_column: Option<Whole>,
+    pub per_round: Option<Whole>,
 }
 
 /// `[run]`: fault handling.

@@ -41,6 +41,11 @@ pub enum StoreError {
         stored: u32,
         asked: u32,
     },
+    #[error(
+        "sweep {name:?} holds {added} points its refinement added, and this definition has no \
+         [refine] to hold them: keep its [refine] table, or give the sweep another name"
+    )]
+    RefinementDropped { name: String, added: usize },
     #[error("no sweeps in {0}")]
     NoSweeps(PathBuf),
     #[error("{path} holds several sweeps ({names}); pass --sweep NAME")]

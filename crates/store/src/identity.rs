@@ -97,27 +97,57 @@ impl Store {
             })?)
     }
 
-    /// Jobs registered per point of a sweep under `version`, by point index.
-    pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<u32>> {
+    /// Jobs registered per point of a sweep under `version`, and how many of them are still
+    /// open (pending or running), by point index.
+    pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<PointJobs>> {
         let mut q = self.conn.prepare(
-            "SELECT p.idx, COUNT(j.id) FROM points p
+            "SELECT p.idx, COUNT(j.id), COUNT(CASE WHEN j.state IN ('pending', 'running') THEN 1 END)
+             FROM points p
              LEFT JOIN jobs j ON j.point_id = p.id AND j.solver_version = ?2
              WHERE p.sweep_id = ?1 GROUP BY p.id ORDER BY p.idx",
         )?;
         let rows = q.query_map(params![sweep_id, version], |r| {
-            Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?))
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, i64>(1)?,
+                r.get::<_, i64>(2)?,
+            ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (idx, n) = row?;
+            let (idx, n, open) = row?;
             let idx = idx as usize;
             if out.len() <= idx {
-                out.resize(idx + 1, 0);
+                out.resize(idx + 1, PointJobs::default());
             }
-            out[idx] = n as u32;
+            out[idx] = PointJobs {
+                jobs: n as u32,
+                open: open as u32,
+            };
         }
         Ok(out)
     }
+
+    /// The axes (alpha, beta, L, sigma) of every point of a sweep, by point index: its grid's,
+    /// then those its refinement added.
+    pub fn point_axes(&self, sweep_id: i64) -> Result<Vec<(f64, f64, u32, f64)>> {
+        let mut q = self
+            .conn
+            .prepare("SELECT alpha, beta, L, sigma FROM points WHERE sweep_id = ?1 ORDER BY idx")?;
+        let rows = q.query_map([sweep_id], |r| {
+            Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?))
+        })?;
+        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+    }
+}
+
+/// One point's jobs under a solver version.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PointJobs {
+    /// Registered.
+    pub jobs: u32,
+    /// Pending or running.
+    pub open: u32,
 }
 
 impl Store {

@@ -27,7 +27,7 @@ mod transitions;
 pub use database::Store;
 pub use encoding::{bytes_to_f64s, f64s_to_bytes, now};
 pub use error::{Result, StoreError};
-pub use identity::{JobIdentity, PrepIdentity};
+pub use identity::{JobIdentity, PointJobs, PrepIdentity};
 pub use lifecycle::JobState;
 pub use record::{PrepRecord, ResultRecord};
 pub use register::{NewJob, NewPoint, NewPrep, NewSweep, Registration};

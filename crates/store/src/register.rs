@@ -68,11 +68,9 @@ impl Store {
     pub fn register(&mut self, sweep: &NewSweep, replace: bool) -> Result<Registration> {
         let tx = self.write()?;
         let row = sweep_row(&tx, sweep, replace)?;
-        if row.created {
-            insert_points(&tx, row.sweep_id, sweep)?;
-        }
+        let point_ids = point_ids(&tx, row.sweep_id, sweep)?;
         let prep_ids = insert_preps(&tx, sweep)?;
-        insert_jobs(&tx, row.sweep_id, sweep, &prep_ids)?;
+        insert_jobs(&tx, sweep, &point_ids, &prep_ids)?;
         let other_versions = other_versions(&tx, row.sweep_id, &sweep.solver_version)?;
         tx.commit()?;
         Ok(Registration {
@@ -161,18 +159,67 @@ fn sweep_row(tx: &rusqlite::Connection, sweep: &NewSweep, replace: bool) -> Resu
     })
 }
 
-/// The points of a newly inserted sweep, in order.
-fn insert_points(tx: &rusqlite::Connection, sweep_id: i64, sweep: &NewSweep) -> Result<()> {
+/// The id of every point of `sweep`, inserting those not stored yet: a new sweep's points in
+/// order, and after the points it holds, those its refinement adds. A point is found by its
+/// axes, bit for bit, so a resumed sweep listing only its grid finds the grid's rows, and the
+/// points refinement added stay (refused if the definition no longer has `refine`).
+fn point_ids(tx: &rusqlite::Connection, sweep_id: i64, sweep: &NewSweep) -> Result<Vec<i64>> {
+    type Key = (u64, u64, u32, u64);
+    let key = |a: f64, b: f64, l: u32, s: f64| (a.to_bits(), b.to_bits(), l, s.to_bits());
+    let mut stored: std::collections::HashMap<Key, i64> = std::collections::HashMap::new();
+    let mut next = 0i64;
+    {
+        let mut q =
+            tx.prepare("SELECT id, idx, alpha, beta, L, sigma FROM points WHERE sweep_id = ?1")?;
+        let rows = q.query_map([sweep_id], |r| {
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, i64>(1)?,
+                key(r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?),
+            ))
+        })?;
+        for row in rows {
+            let (id, idx, k) = row?;
+            next = next.max(idx + 1);
+            stored.insert(k, id);
+        }
+    }
+    let extra = stored.len().saturating_sub(sweep.points.len());
+    if extra > 0 && !spec_has_refine(&sweep.spec) {
+        return Err(StoreError::RefinementDropped {
+            name: sweep.name.clone(),
+            added: extra,
+        });
+    }
     let mut insert = tx.prepare(
         "INSERT INTO points (sweep_id, idx, alpha, beta, L, sigma, params)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
     )?;
-    for (idx, pt) in sweep.points.iter().enumerate() {
-        insert.execute(params![
-            sweep_id, idx as i64, pt.alpha, pt.beta, pt.spacing, pt.sigma, pt.config
-        ])?;
+    let mut ids = Vec::with_capacity(sweep.points.len());
+    for pt in &sweep.points {
+        let k = key(pt.alpha, pt.beta, pt.spacing, pt.sigma);
+        let id = match stored.get(&k) {
+            Some(&id) => id,
+            None => {
+                insert.execute(params![
+                    sweep_id, next, pt.alpha, pt.beta, pt.spacing, pt.sigma, pt.config
+                ])?;
+                next += 1;
+                let id = tx.last_insert_rowid();
+                stored.insert(k, id);
+                id
+            }
+        };
+        ids.push(id);
     }
-    Ok(())
+    Ok(ids)
+}
+
+/// Whether a canonical definition asks for refinement.
+fn spec_has_refine(spec: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(spec)
+        .ok()
+        .is_some_and(|v| v.get("refine").is_some_and(|r| !r.is_null()))
 }
 
 /// The sweep's preps (those already stored, by key, seed and solver, are shared), with the id
@@ -198,20 +245,18 @@ fn insert_preps(tx: &rusqlite::Connection, sweep: &NewSweep) -> Result<Vec<i64>>
 }
 
 /// The jobs not yet stored (a resumed sweep's are kept as they are; a grown one gains its new
-/// replicates).
+/// replicates), at the points `point_ids` gives.
 fn insert_jobs(
     tx: &rusqlite::Connection,
-    sweep_id: i64,
     sweep: &NewSweep,
+    point_ids: &[i64],
     prep_ids: &[i64],
 ) -> Result<()> {
-    let mut point_id = tx.prepare("SELECT id FROM points WHERE sweep_id = ?1 AND idx = ?2")?;
     let mut insert = tx.prepare(
         "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
          VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
     )?;
-    for (idx, pt) in sweep.points.iter().enumerate() {
-        let pid: i64 = point_id.query_row(params![sweep_id, idx as i64], |r| r.get(0))?;
+    for (pt, &pid) in sweep.points.iter().zip(point_ids) {
         for job in &pt.jobs {
             insert.execute(params![
                 pid,
@@ -246,7 +291,7 @@ fn other_versions(
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum SpecChange {
     Same,
-    /// Only the adaptive rule differs.
+    /// Only the adaptive or the refinement rule differs.
     Retuned,
     /// Only `replicates` (and perhaps the adaptive rule) differs, and it is larger.
     Grows {
@@ -261,10 +306,11 @@ enum SpecChange {
     Other,
 }
 
-/// Compare two canonical sweep definitions. `replicates` and `adaptive` are the keys that may
-/// change under the same name: growing the budget only adds jobs, since a replicate's seed and
-/// prep depend on its index, never on the count (SPEC section 6), and the adaptive rule only
-/// decides how many of them run.
+/// Compare two canonical sweep definitions. `replicates`, `adaptive` and `refine` are the keys
+/// that may change under the same name: growing the budget only adds jobs, since a replicate's
+/// seed and prep depend on its index, never on the count (SPEC section 6), the adaptive rule
+/// only decides how many of them run, and the refinement rule which points beyond the grid
+/// are added (each seeded by its own parameters).
 fn spec_change(stored: &str, new: &str) -> SpecChange {
     if stored == new {
         return SpecChange::Same;
@@ -274,6 +320,7 @@ fn spec_change(stored: &str, new: &str) -> SpecChange {
         let map = v.as_object_mut()?;
         let n = map.remove("replicates")?.as_u64()?;
         map.remove("adaptive");
+        map.remove("refine");
         Some((u32::try_from(n).ok()?, v))
     };
     match (split(stored), split(new)) {

@@ -61,7 +61,6 @@ pub(super) struct Run<'a> {
 impl<'a> Run<'a> {
     /// A run of the ledger's sweep: the preps still to compute queued first, then the jobs.
     pub(super) fn new(store: &'a mut Store, ledger: Ledger) -> Result<Self, RunError> {
-        let preps = store.preps_of(ledger.sweep_id, &ledger.version)?;
         let mut run = Run {
             store,
             ledger,
@@ -71,25 +70,39 @@ impl<'a> Run<'a> {
             queued: HashSet::new(),
             ok_preps: HashSet::new(),
             payloads: HashMap::new(),
-            prep_seeds: preps.iter().map(|p| (p.id, p.seed)).collect(),
+            prep_seeds: HashMap::new(),
             progress: Progress::default(),
             spans: Vec::new(),
         };
         run.refresh_totals()?;
-        run.progress.preps_total = preps.len() as u64;
-        for prep in preps {
-            match prep.state {
-                JobState::Done | JobState::Failed => {
-                    run.progress.preps_done += 1;
-                    if prep.verdict.as_deref() == Some("ok") {
-                        run.ok_preps.insert(prep.id);
-                    }
-                }
-                _ => run.prep_queue.push_back(prep),
-            }
-        }
+        run.queue_preps()?;
         run.queue_pending()?;
         Ok(run)
+    }
+
+    /// Queue the sweep's preps this run does not know yet (all of them at the start; then
+    /// those of the points a refinement round adds): those still to compute, and those done
+    /// counted as done.
+    fn queue_preps(&mut self) -> Result<(), RunError> {
+        for prep in self
+            .store
+            .preps_of(self.ledger.sweep_id, &self.ledger.version)?
+        {
+            if self.prep_seeds.insert(prep.id, prep.seed).is_some() {
+                continue;
+            }
+            self.progress.preps_total += 1;
+            match prep.state {
+                JobState::Done | JobState::Failed => {
+                    self.progress.preps_done += 1;
+                    if prep.verdict.as_deref() == Some("ok") {
+                        self.ok_preps.insert(prep.id);
+                    }
+                }
+                _ => self.prep_queue.push_back(prep),
+            }
+        }
+        Ok(())
     }
 
     /// Totals and counts from the store (at the start, and when a round adds jobs).
@@ -127,10 +140,12 @@ impl<'a> Run<'a> {
         Ok(())
     }
 
-    /// An adaptive sweep's next rounds, once a point's round is complete.
+    /// A sweep's next rounds (adaptive replicates, refined points), once a point's round or a
+    /// column is complete.
     fn plan_rounds(&mut self) -> Result<(), RunError> {
         if self.ledger.plan_rounds(self.store)? > 0 {
             self.refresh_totals()?;
+            self.queue_preps()?;
             self.queue_pending()?;
         }
         Ok(())

@@ -1,23 +1,41 @@
-//! An adaptive sweep's rounds: where each point stands, and the next replicates of the open
-//! points whose round is complete.
+//! A sweep's rounds: an adaptive sweep's next replicates of the open points whose round is
+//! complete, and a refined sweep's next beta values in the columns whose points are all
+//! finished.
 
+use std::collections::HashSet;
+
+use cellsweep_solver::Params;
 use cellsweep_stats::adaptive::kinds;
-use cellsweep_stats::{assess, Assessment, PointEnds};
-use cellsweep_store::Store;
+use cellsweep_stats::refine::{plan_round, ColumnNeed};
+use cellsweep_stats::{assess, Assessment, Counts, PointEnds};
+use cellsweep_store::{PointJobs, Store};
 
 use super::Ledger;
 use crate::error::RunError;
 use crate::plan::plan_targets;
+use crate::sweep::Axes;
+
+/// A column's key: (alpha, L, sigma), bit for bit.
+type ColumnKey = (u64, u32, u64);
+
+fn column_of(&(alpha, _, l, sigma): &Axes) -> ColumnKey {
+    (alpha.to_bits(), l, sigma.to_bits())
+}
 
 impl Ledger {
-    /// Every point's finished replicates by index, in grid order.
+    /// Every point of the sweep by index, as the store holds them: the grid's, then those its
+    /// refinement added.
+    pub fn points(&self, store: &Store) -> Result<Vec<Params>, RunError> {
+        Ok(store
+            .point_axes(self.sweep_id)?
+            .into_iter()
+            .map(|a| self.sweep.point(a))
+            .collect())
+    }
+
+    /// Every point's finished replicates by index, in point order.
     pub fn point_ends(&self, store: &Store) -> Result<Vec<PointEnds>, RunError> {
-        let (mut ends, index) = PointEnds::grid(
-            self.sweep
-                .points()
-                .iter()
-                .map(|p| (p.alpha, p.beta, p.L, p.sigma)),
-        );
+        let (mut ends, index) = PointEnds::grid(store.point_axes(self.sweep_id)?);
         for r in store.replicates(self.sweep_id, &self.version)? {
             // (One result per job, and a job per point and replicate: never twice.)
             if let Some(i) = index.of(r.alpha, r.beta, r.L, r.sigma) {
@@ -40,33 +58,90 @@ impl Ledger {
         )))
     }
 
-    /// Add the next round of every open point whose round is complete (adaptive sweeps), and
-    /// settle new jobs whose prep is already decided. Returns how many jobs were added.
+    /// Add the next round of every open point whose round is complete (adaptive sweeps) and
+    /// the next values of every finished column whose crossing is not yet narrow enough
+    /// (refined sweeps), and settle new jobs whose prep is already decided. Returns how many
+    /// jobs were added.
     pub fn plan_rounds(&self, store: &mut Store) -> Result<usize, RunError> {
-        let Some(assessed) = self.assess(store)? else {
-            return Ok(0);
-        };
-        let have = store.jobs_per_point(self.sweep_id, &self.version)?;
-        let targets: Vec<u32> = assessed
-            .iter()
-            .enumerate()
-            .map(|(i, a)| {
-                let h = have.get(i).copied().unwrap_or(0);
-                a.next_round.map_or(h, |n| n.max(h))
-            })
-            .collect();
-        let added: u32 = targets
-            .iter()
-            .enumerate()
-            .map(|(i, &t)| t - have.get(i).copied().unwrap_or(0))
-            .sum();
-        if added == 0 {
+        if self.sweep.adaptive.is_none() && self.sweep.refine.is_none() {
             return Ok(0);
         }
+        let axes = store.point_axes(self.sweep_id)?;
+        let ends = self.point_ends(store)?;
+        let mut have = store.jobs_per_point(self.sweep_id, &self.version)?;
+        have.resize(axes.len(), PointJobs::default());
+        let mut targets: Vec<u32> = have.iter().map(|h| h.jobs).collect();
+        if let Some(rule) = self.sweep.adaptive {
+            let assessed = assess(&ends, &rule, kinds(self.sweep.preps_per_point));
+            for (t, a) in targets.iter_mut().zip(&assessed) {
+                *t = a.next_round.map_or(*t, |n| n.max(*t));
+            }
+        }
+        let added = self.refinement(&axes, &ends, &have, &targets);
+        let more: u32 = targets
+            .iter()
+            .zip(&have)
+            .map(|(t, h)| t - h.jobs)
+            .sum::<u32>()
+            + added.len() as u32 * self.sweep.initial_replicates();
+        if more == 0 {
+            return Ok(0);
+        }
+        let first = self.sweep.initial_replicates();
+        let points: Vec<Params> = axes
+            .iter()
+            .chain(&added)
+            .map(|&a| self.sweep.point(a))
+            .collect();
         // The sweep is registered already: the source it was read from stays as stored.
-        let new = plan_targets(&self.sweep, "", &|i| targets[i]);
-        store.register(&new, false)?;
+        let target = |i: usize| targets.get(i).copied().unwrap_or(first);
+        store.register(&plan_targets(&self.sweep, "", &points, &target), false)?;
         self.settle_decided(store)?;
-        Ok(added as usize)
+        Ok(more as usize)
+    }
+
+    /// A refined sweep's next points: in every column whose points are all finished (no job
+    /// open, no adaptive round owed), the values [`cellsweep_stats::refine`] asks for.
+    fn refinement(
+        &self,
+        axes: &[Axes],
+        ends: &[PointEnds],
+        have: &[PointJobs],
+        targets: &[u32],
+    ) -> Vec<Axes> {
+        let Some(rule) = self.sweep.refine else {
+            return Vec::new();
+        };
+        let busy: HashSet<ColumnKey> = (0..axes.len())
+            .filter(|&i| have[i].open > 0 || targets[i] > have[i].jobs)
+            .map(|i| column_of(&axes[i]))
+            .collect();
+        let counts: Vec<Counts> = ends
+            .iter()
+            .zip(axes)
+            .filter(|(_, a)| !busy.contains(&column_of(a)))
+            .map(|(e, _)| e.counts(u32::MAX))
+            .collect();
+        let grid_beta = &self.sweep.grid.beta;
+        let added_to = |l: u32, sigma: f64, alpha: f64| {
+            let key = (alpha.to_bits(), l, sigma.to_bits());
+            axes.iter()
+                .filter(|a| column_of(a) == key && !grid_beta.contains(&a.1))
+                .count() as u32
+        };
+        let mut out = Vec::new();
+        for round in plan_round(&counts, &rule, &added_to) {
+            if let ColumnNeed::Add(values) = round.need {
+                for beta in values {
+                    let a = (round.alpha, beta, round.L, round.sigma);
+                    // (The values lie inside a crossing's interval, itself inside the
+                    // column's sampled betas, on the step lattice: always admitted.)
+                    if self.sweep.refused_addition(a).is_none() {
+                        out.push(a);
+                    }
+                }
+            }
+        }
+        out
     }
 }

@@ -33,12 +33,15 @@
 use std::path::Path;
 
 use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
-use cellsweep_stats::AdaptiveRule;
+use cellsweep_stats::{AdaptiveRule, RefineRule};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{SweepError, ValueError};
 use crate::grid;
 use crate::sweep_file::{self, AdaptiveFile, AxisFile, ProtocolFile, RunFile, Whole};
+
+mod points;
+pub use points::Axes;
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -85,6 +88,11 @@ pub struct Sweep {
     /// replicate gives.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub adaptive: Option<AdaptiveRule>,
+    /// Beta values added where each column's crossing lies, until beta* is known to a width
+    /// ([`crate::refinement`]). Like `adaptive`, it may change under the same name: it decides
+    /// which points run, never what a point gives.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<RefineRule>,
     /// Not part of the sweep's identity: changing it does not make a different sweep.
     #[serde(skip)]
     pub run: RunSettings,
@@ -244,6 +252,14 @@ fn check_size(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
         .fold(1u64, |n, &k| n.saturating_mul(k as u64));
     if points > MAX_POINTS {
         return Err(cx.err("grid", format!("{points} points is more than {MAX_POINTS}")));
+    }
+    // Refinement may add up to its budget in every column: the limits hold for all of them.
+    let points = points.saturating_add(sweep.max_added_points());
+    if points > MAX_POINTS {
+        return Err(cx.err(
+            "refine.max_new_per_column",
+            format!("the grid and every value refinement may add make {points} points, more than {MAX_POINTS}"),
+        ));
     }
     let jobs = points.saturating_mul(sweep.replicates as u64);
     if jobs > MAX_JOBS {
@@ -432,6 +448,14 @@ impl Sweep {
         };
         let replicates = adaptive.map_or(replicates, |a| a.max_replicates as u64);
 
+        let refine = match &f.refine {
+            None => None,
+            Some(r) => Some(
+                crate::refinement::rule(r, grid.beta.len())
+                    .map_err(|(key, problem)| cx.err(key, problem))?,
+            ),
+        };
+
         let run = f
             .run
             .map_or(Ok(RunSettings::default()), |r| run_settings(&r, &cx))?;
@@ -446,32 +470,12 @@ impl Sweep {
             protocol,
             classifier,
             adaptive,
+            refine,
             run,
         };
         check_size(&sweep, &cx)?;
         check_points(&sweep, &cx)?;
         Ok(sweep)
-    }
-
-    /// Parameters of every grid point, ordered by L, sigma, alpha, beta.
-    pub fn points(&self) -> Vec<Params> {
-        let mut out = Vec::new();
-        for &l in &self.grid.L {
-            for &sigma in &self.grid.sigma {
-                for &alpha in &self.grid.alpha {
-                    for &beta in &self.grid.beta {
-                        out.push(Params {
-                            alpha,
-                            beta,
-                            L: l,
-                            sigma,
-                            ..self.params.clone()
-                        });
-                    }
-                }
-            }
-        }
-        out
     }
 
     /// Replicates registered per point at the start: the first round of an adaptive sweep,

@@ -1,0 +1,139 @@
+//! A sweep's points: its grid's, and those its refinement may add.
+//!
+//! An added point is an ordinary point of its sweep: its parameters are a grid column's
+//! (alpha, L, sigma and every fixed parameter) with a beta between the grid's own, on the
+//! refinement's step lattice, and its seeds derive from those parameters like any other
+//! point's ([`crate::plan`]). So a refined sweep and a fixed sweep listing the same values run
+//! the very same trajectories, whatever order the rounds came in.
+
+use std::collections::{HashMap, HashSet};
+
+use cellsweep_solver::Params;
+
+use super::Sweep;
+
+/// One point's axes: (alpha, beta, L, sigma).
+pub type Axes = (f64, f64, u32, f64);
+
+impl Sweep {
+    /// Parameters of every grid point, ordered by L, sigma, alpha, beta.
+    pub fn points(&self) -> Vec<Params> {
+        let mut out = Vec::new();
+        for &l in &self.grid.L {
+            for &sigma in &self.grid.sigma {
+                for &alpha in &self.grid.alpha {
+                    for &beta in &self.grid.beta {
+                        out.push(Params {
+                            alpha,
+                            beta,
+                            L: l,
+                            sigma,
+                            ..self.params.clone()
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The parameters of the point (alpha, beta, L, sigma) of this sweep (a grid point or an
+    /// added one): its axes over the sweep's fixed parameters.
+    #[allow(non_snake_case)]
+    pub fn point(&self, (alpha, beta, L, sigma): Axes) -> Params {
+        Params {
+            alpha,
+            beta,
+            L,
+            sigma,
+            ..self.params.clone()
+        }
+    }
+
+    /// Most points refinement can add: every column's budget.
+    pub fn max_added_points(&self) -> u64 {
+        let g = &self.grid;
+        self.refine.map_or(0, |r| {
+            (g.alpha.len() * g.L.len() * g.sigma.len()) as u64 * r.max_new_per_column as u64
+        })
+    }
+
+    /// Why the point `axes`, not on the grid, cannot be a point this sweep's refinement added
+    /// (None: it can be). It must lie in a column of the grid, with a beta inside the grid's
+    /// range, on the step lattice, and not on the grid.
+    pub fn refused_addition(&self, (alpha, beta, l, sigma): Axes) -> Option<String> {
+        let g = &self.grid;
+        let Some(rule) = self.refine else {
+            return Some("the sweep has no [refine] to add it".into());
+        };
+        if !(g.alpha.contains(&alpha) && g.L.contains(&l) && g.sigma.contains(&sigma)) {
+            return Some("not a column of the grid".into());
+        }
+        let (lo, hi) = g
+            .beta
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        if !(beta > lo && beta < hi) {
+            return Some(format!("beta outside the grid's [{lo}, {hi}]"));
+        }
+        let j = (beta / rule.step).round();
+        if (beta - j * rule.step).abs() > 1e-6 * rule.step || snap(j * rule.step) != beta {
+            return Some(format!("beta not on the refinement's step {}", rule.step));
+        }
+        if g.beta.contains(&beta) {
+            return Some("a grid point".into());
+        }
+        None
+    }
+
+    /// Every point of the sweep that `found` names (axes in order, repeats allowed): the
+    /// grid's points in grid order, then the added points among `found` in their first order.
+    /// An added point this sweep could not hold, or more added to one column than its budget,
+    /// is an error naming the point.
+    pub fn points_with(
+        &self,
+        found: impl IntoIterator<Item = Axes>,
+    ) -> Result<Vec<Params>, String> {
+        let mut points = self.points();
+        let key = |p: &Params| (p.alpha.to_bits(), p.beta.to_bits(), p.L, p.sigma.to_bits());
+        let mut seen: HashSet<_> = points.iter().map(key).collect();
+        let mut per_column: HashMap<(u64, u32, u64), u32> = Default::default();
+        for axes in found {
+            let p = self.point(axes);
+            if !seen.insert(key(&p)) {
+                continue;
+            }
+            let at = format!(
+                "alpha = {}, beta = {}, L = {}, sigma = {}",
+                p.alpha, p.beta, p.L, p.sigma
+            );
+            if let Some(why) = self.refused_addition(axes) {
+                return Err(format!(
+                    "{at} is not a point of sweep {:?}: {why}",
+                    self.name
+                ));
+            }
+            let n = per_column
+                .entry((p.alpha.to_bits(), p.L, p.sigma.to_bits()))
+                .or_default();
+            *n += 1;
+            let budget = self.refine.map_or(0, |r| r.max_new_per_column);
+            if *n > budget {
+                return Err(format!(
+                    "{at}: more added values in its column than the sweep's max_new_per_column = \
+                     {budget}"
+                ));
+            }
+            points.push(p);
+        }
+        Ok(points)
+    }
+}
+
+/// `v` without float noise beyond 9 decimals: the very number a sweep file listing it gives
+/// (as `cellsweep_stats::refine` writes the values it adds).
+fn snap(v: f64) -> f64 {
+    format!("{v:.9}").parse().unwrap_or(v)
+}

@@ -1,0 +1,258 @@
+//! Refinement (SPEC section 6; a sweep's `[refine]`): rounds that add beta values where each
+//! column's crossing lies, through the ledger in a world whose crossing is known
+//! ([`common::world`]), and through the local engine, export and import.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use cellsweep_scheduler::{plan, Ledger, Sweep};
+use cellsweep_solver::{Params, SOLVER_VERSION};
+use cellsweep_stats::refine::{plan_round, ColumnNeed};
+use cellsweep_stats::PointEnds;
+use common::world::{added, beta_star, drive, open, rows, store_at, sweep_text, STEP};
+
+#[test]
+fn rounds_add_values_inside_the_interval_until_narrow_or_spent_and_match_a_fixed_sweep() {
+    let text = sweep_text("refined", "{ from = 10, to = 30, step = 4 }", true);
+    let sweep = Sweep::parse(&text, "refined.toml").unwrap();
+    let (_, mut store) = store_at("rounds");
+    let ledger = open(&mut store, &sweep);
+    drive(&mut store, &ledger, false, usize::MAX);
+
+    // Every added value: on the step lattice, between the grid's betas, not on the grid, at
+    // most 6 a column, and each with its 40 replicates.
+    let points = ledger.points(&store).unwrap();
+    assert_eq!(&points[..12], &sweep.points()[..], "the grid comes first");
+    let extra: Vec<&Params> = points[12..].iter().collect();
+    assert!(!extra.is_empty(), "no value added");
+    for alpha in [0.1, 0.12] {
+        let betas: Vec<f64> = extra
+            .iter()
+            .filter(|p| p.alpha == alpha)
+            .map(|p| p.beta)
+            .collect();
+        assert!(!betas.is_empty() && betas.len() <= 6, "{alpha}: {betas:?}");
+        for b in &betas {
+            assert_eq!((b / STEP).round() * STEP, *b);
+            assert!(*b > 10.0 && *b < 30.0 && !sweep.grid.beta.contains(b));
+            // Near the true crossing (inside the intervals of the rounds that added it).
+            assert!((b - beta_star(alpha)).abs() < 3.0, "{alpha}: {b}");
+        }
+    }
+    assert_eq!(
+        store
+            .jobs_per_point(ledger.sweep_id, SOLVER_VERSION)
+            .unwrap()
+            .iter()
+            .map(|j| (j.jobs, j.open))
+            .collect::<Vec<_>>(),
+        vec![(40, 0); points.len()]
+    );
+    // No column wants more: each is narrow, out of budget or out of lattice.
+    let ends = ledger.point_ends(&store).unwrap();
+    let counts: Vec<_> = ends
+        .iter()
+        .map(|e: &PointEnds| e.counts(u32::MAX))
+        .collect();
+    let rule = sweep.refine.unwrap();
+    let betas_added = |l, s, a| {
+        extra
+            .iter()
+            .filter(|p| (p.L, p.sigma, p.alpha) == (l, s, a))
+            .count() as u32
+    };
+    for c in plan_round(&counts, &rule, &betas_added) {
+        assert!(
+            matches!(
+                c.need,
+                ColumnNeed::Narrow { .. } | ColumnNeed::Budget { .. } | ColumnNeed::Lattice { .. }
+            ),
+            "{c:?}"
+        );
+    }
+
+    // A fixed sweep listing the grid and every added value stores the very same rows there.
+    let mut listed: Vec<f64> = sweep.grid.beta.clone();
+    listed.extend(extra.iter().map(|p| p.beta));
+    listed.sort_by(f64::total_cmp);
+    listed.dedup();
+    let list = format!(
+        "[{}]",
+        listed
+            .iter()
+            .map(|b| b.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let fixed = Sweep::parse(&sweep_text("refined", &list, false), "fixed.toml").unwrap();
+    let (_, mut fixed_store) = store_at("fixed");
+    let fixed_ledger = open(&mut fixed_store, &fixed);
+    drive(&mut fixed_store, &fixed_ledger, false, usize::MAX);
+    let wanted: BTreeSet<(u64, u64)> = points
+        .iter()
+        .map(|p| (p.alpha.to_bits(), p.beta.to_bits()))
+        .collect();
+    let fixed_rows: Vec<String> = rows(&fixed_store, &fixed_ledger)
+        .into_iter()
+        .filter(|r| {
+            wanted.iter().any(|(a, b)| {
+                r.contains(&format!(
+                    "alpha: {:?}, beta: {:?},",
+                    f64::from_bits(*a),
+                    f64::from_bits(*b)
+                ))
+            })
+        })
+        .collect();
+    assert_eq!(rows(&store, &ledger), fixed_rows);
+}
+
+#[test]
+fn a_killed_refinement_resumes_and_the_order_of_results_changes_nothing() {
+    let text = sweep_text("resumed", "{ from = 10, to = 30, step = 4 }", true);
+    let sweep = Sweep::parse(&text, "resumed.toml").unwrap();
+
+    let (_, mut straight) = store_at("straight");
+    let l1 = open(&mut straight, &sweep);
+    drive(&mut straight, &l1, false, usize::MAX);
+
+    // Results in the reverse order, killed twice: once between results, once with a job
+    // claimed and never answered (left running). Each restart reopens the ledger as a run does.
+    let (_, mut killed) = store_at("killed");
+    let l2 = open(&mut killed, &sweep);
+    drive(&mut killed, &l2, true, 500);
+    let l2 = open(&mut killed, &sweep);
+    let job = killed.pending_jobs(l2.sweep_id, SOLVER_VERSION).unwrap()[0].clone();
+    killed.claim_job(job.id).unwrap();
+    drop(l2);
+    let (l2, opening) = {
+        let reg = killed.register(&plan(&sweep, "test"), false).unwrap();
+        Ledger::open(&mut killed, reg.sweep_id, SOLVER_VERSION, 3).unwrap()
+    };
+    assert_eq!(opening.recovered, 1);
+    drive(&mut killed, &l2, true, usize::MAX);
+
+    assert_eq!(added(&l1, &straight), added(&l2, &killed));
+    assert_eq!(rows(&straight, &l1), rows(&killed, &l2));
+}
+
+#[test]
+fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_reads_back() {
+    let dir = common::workdir("refinement", "engine");
+    let (toml, csv) = common::world::refined_export(&dir, "engine");
+    let (toml, csv) = (toml.to_str().unwrap(), csv.to_str().unwrap());
+    let import = common::cellsweep_in(&dir, &["import", csv, "--db", "r.sqlite"]);
+    assert!(
+        import.status.success(),
+        "{}",
+        String::from_utf8_lossy(&import.stderr)
+    );
+    let db = dir.join("r.sqlite");
+    assert_eq!(common::query(&db, "SELECT COUNT(*) FROM points"), 12);
+
+    // The run plans each column's values from the imported crossings and runs them. Its own
+    // 2 tau0 collisions end undetermined, which tells the model nothing: rounds go on until
+    // the column's budget (or lattice) is spent.
+    let run = common::cellsweep_in(&dir, &["run", toml, "--db", "r.sqlite", "--workers", "2"]);
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(text.contains("refine"), "{text}");
+    let added = common::query(&db, "SELECT COUNT(*) FROM points") - 12;
+    assert!(added >= 2, "{added} points added\n{text}");
+    for alpha in [0.1, 0.12] {
+        let n = common::query(
+            &db,
+            &format!(
+                "SELECT COUNT(*) FROM points WHERE alpha = {alpha} AND beta NOT IN (10, 14, 18, 22, 26, 30)"
+            ),
+        );
+        assert!(n <= 6, "alpha {alpha}: {n} added");
+    }
+    assert_eq!(
+        common::query(&db, "SELECT COUNT(*) FROM jobs WHERE state != 'done'"),
+        0
+    );
+    assert_eq!(
+        common::query(&db, "SELECT COUNT(*) FROM jobs"),
+        (12 + added) * 40
+    );
+    // Nothing is owed: a second run has nothing to do and adds nothing.
+    let again = common::cellsweep_in(&dir, &["run", toml, "--db", "r.sqlite"]);
+    assert!(again.status.success());
+    assert_eq!(
+        common::query(&db, "SELECT COUNT(*) FROM points") - 12,
+        added
+    );
+
+    // Its export carries the added points through import into a fresh store, row for row,
+    // and every reader takes the uneven column.
+    let out = common::cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "all.csv"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let back = common::cellsweep_in(&dir, &["import", "all.csv", "--db", "b.sqlite"]);
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+    let again = common::cellsweep_in(&dir, &["export", "--db", "b.sqlite", "--out", "back.csv"]);
+    assert!(again.status.success());
+    assert_eq!(
+        export_rows(&dir.join("all.csv")),
+        export_rows(&dir.join("back.csv"))
+    );
+    for args in [
+        vec!["table", "--data", "all.csv"],
+        vec!["fit", "--data", "all.csv", "--format", "json"],
+        vec!["plot", "--data", "all.csv", "--out", "figs"],
+        vec!["status", "--db", "r.sqlite"],
+    ] {
+        let o = common::cellsweep_in(&dir, &args);
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    // A row at a point no refinement of this sweep could add is refused by import.
+    let text = std::fs::read_to_string(dir.join("all.csv")).unwrap();
+    let forged = text.replacen("\nengine,0.1,10.0,", "\nengine,0.1,10.25,", 1);
+    assert_ne!(forged, text);
+    std::fs::write(dir.join("forged.csv"), forged).unwrap();
+    let o = common::cellsweep_in(&dir, &["import", "forged.csv", "--db", "f.sqlite"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("not on the refinement's step"), "{err}");
+    assert!(!dir.join("f.sqlite").exists());
+}
+
+/// An export's rows without their wall times, sorted.
+fn export_rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    let mut r = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(path)
+        .unwrap();
+    let head = r.headers().unwrap().clone();
+    let mut rows: Vec<Vec<String>> = r
+        .records()
+        .map(|rec| {
+            rec.unwrap()
+                .iter()
+                .zip(&head)
+                .filter(|(_, h)| !h.ends_with("wall_s"))
+                .map(|(v, _)| v.to_string())
+                .collect()
+        })
+        .collect();
+    rows.sort();
+    assert!(!rows.is_empty());
+    rows
+}

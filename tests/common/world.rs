@@ -97,9 +97,9 @@ pub fn drive(store: &mut Store, ledger: &Ledger, reverse: bool, limit: usize) ->
                 let s = ledger.settle_prep(store, task, &prep, wall_s).unwrap();
                 assert_eq!(s.settlement, Settlement::New);
             }
-            if !payloads.contains_key(&p.id) {
+            if let std::collections::hash_map::Entry::Vacant(e) = payloads.entry(p.id) {
                 if let Ok(rec) = store.load_prep(p.id) {
-                    payloads.insert(p.id, PrepPayload::from_record(rec, p.seed).unwrap());
+                    e.insert(PrepPayload::from_record(rec, p.seed).unwrap());
                 }
             }
         }

@@ -12,8 +12,9 @@ pub(crate) fn axis(v: impl Iterator<Item = f64>) -> Vec<f64> {
 /// Data range with half a grid step of room on each side.
 pub(crate) fn span(values: &[f64]) -> (f64, f64) {
     let (lo, hi) = (values[0], values[values.len() - 1]);
+    // The widest gap: an even grid's step, and a refined axis keeps its grid's margins.
     let step = if values.len() > 1 {
-        (hi - lo) / (values.len() - 1) as f64
+        values.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max)
     } else {
         lo.abs().max(1.0) * 0.2
     };

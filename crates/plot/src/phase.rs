@@ -59,12 +59,19 @@ fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str
             fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{a}"));
         }
     }
+    // An even axis: every k-th label; a refined one (values added between the grid's): a
+    // label where it keeps 16 px from the last one, from the bottom up.
+    let even = betas
+        .windows(2)
+        .all(|w| ((w[1] - w[0]) - (betas[1] - betas[0])).abs() <= 1e-9 * w[1].abs().max(1.0));
     let every = betas.len().div_ceil(11).max(1);
+    let mut last = f64::INFINITY;
     for (k, b) in betas.iter().enumerate() {
         let y = p.py(*b);
         fig.line(p.x - 5.0, y, p.x, y, Color::BLACK, 1.0);
-        if k % every == 0 {
+        if (even && k % every == 0) || (!even && last - y >= 16.0) {
             fig.text(p.x - 8.0, y + 4.0, 12.0, Anchor::End, format!("{b}"));
+            last = y;
         }
     }
     fig.text(p.x + p.w / 2.0, p.y + p.h + 40.0, 17.0, Anchor::Middle, "α");
@@ -87,24 +94,62 @@ fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
     }
 }
 
+/// Each point's cell along beta, in data units: from halfway to the next lower beta of its
+/// column to halfway to the next higher one, the ends at the panel's edges. On an even grid
+/// every cell is one step high; a refined column's added values get thinner cells.
+fn beta_cells(points: &[Point], (lo, hi): (f64, f64)) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .map(|pt| {
+            let column = points
+                .iter()
+                .filter(|q| q.alpha == pt.alpha)
+                .map(|q| q.beta);
+            let below = column
+                .clone()
+                .filter(|&b| b < pt.beta)
+                .fold(f64::NAN, f64::max);
+            let above = column.filter(|&b| b > pt.beta).fold(f64::NAN, f64::min);
+            let down = if below.is_nan() {
+                lo
+            } else {
+                0.5 * (below + pt.beta)
+            };
+            let up = if above.is_nan() {
+                hi
+            } else {
+                0.5 * (above + pt.beta)
+            };
+            (down, up)
+        })
+        .collect()
+}
+
 /// One point in panel `k` (0: its mark and replicate count, 1-3: its cell of the heat map of
-/// train, walk-past, reversal), grouped under its tooltip; (cw, ch) is a grid cell in pixels.
-fn point_shapes(p: &Panel, pt: &Point, k: usize, (cw, ch): (f64, f64)) -> Shape {
+/// train, walk-past, reversal), grouped under its tooltip; `cw` is a grid cell's width in
+/// pixels, (b0, b1) the point's cell along beta.
+fn point_shapes(p: &Panel, pt: &Point, k: usize, cw: f64, (b0, b1): (f64, f64)) -> Shape {
     let mut shapes = Figure::new(0, 0);
     let (x, y) = (p.px(pt.alpha), p.py(pt.beta));
+    // (py runs down the page: the cell's top is at its higher beta.)
+    let (top, ch) = (p.py(b1), p.py(b0) - p.py(b1));
     if k == 0 {
-        let r = (cw.min(ch) * 0.38).min(14.0);
+        // (At least 2.5 px: a refined column's thin cells keep a visible mark.)
+        let r = (cw.min(ch) * 0.38).clamp(2.5, 14.0);
         if let Some(m) = pt.mark {
             draw_mark(&mut shapes, m, x, y, r);
         }
-        // Replicates per point, lower right of the mark; '+': an open adaptive point.
-        let n = format!("{}{}", pt.n, if pt.open { "+" } else { "" });
-        shapes.text(x + r - 1.0, y + r + 3.0, 9.0, Anchor::Start, n);
+        // Replicates per point, lower right of the mark; '+': an open adaptive point. Cells
+        // too thin for it (refined values) leave it to the tooltip.
+        if ch >= 10.0 {
+            let n = format!("{}{}", pt.n, if pt.open { "+" } else { "" });
+            shapes.text(x + r - 1.0, y + r + 3.0, 9.0, Anchor::Start, n);
+        }
     } else {
         let f = pt.freq[k - 1];
         shapes.push(Shape::Rect {
             x: x - cw / 2.0,
-            y: y - ch / 2.0,
+            y: top,
             w: cw + 0.5,
             h: ch + 0.5,
             fill: Some(if f.is_finite() {
@@ -220,7 +265,8 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
         return fig;
     }
     let (ax, by) = (span(&alphas), span(&betas));
-    let (cw, ch) = (pw / alphas.len() as f64, ph / betas.len() as f64);
+    let cw = pw / alphas.len() as f64;
+    let cells = beta_cells(&d.points, by);
     let titles = [
         "(a) outcome",
         "(b) training",
@@ -236,8 +282,8 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
             ax,
             by,
         };
-        for pt in &d.points {
-            fig.push(point_shapes(&p, pt, k, (cw, ch)));
+        for (pt, &cell) in d.points.iter().zip(&cells) {
+            fig.push(point_shapes(&p, pt, k, cw, cell));
         }
         lines(&mut fig, &p, d);
         frame(&mut fig, &p, &alphas, &betas, title);

@@ -245,6 +245,24 @@ const SWEEPS: &[(&str, &str, &str)] = &[
         "job_timeout = 3600\nretries = 2",
         "run.retries",
     ),
+    // Refinement.
+    ("[run]", "[refine]\naxis = \"alpha\"\n[run]", "refine.axis"),
+    ("[run]", "[refine]\nstep = 0\n[run]", "refine.step"),
+    ("[run]", "[refine]\nwidth = -1\n[run]", "refine.width"),
+    ("[run]", "[refine]\nwidth = nan\n[run]", "refine.width"),
+    (
+        "[run]",
+        "[refine]\nmax_new_per_column = 0\n[run]",
+        "refine.max_new_per_column",
+    ),
+    (
+        "[run]",
+        "[refine]\nper_round = 7\n[run]",
+        "refine.per_round",
+    ),
+    ("[run]", "[refine]\nbudget = 3\n[run]", "refine.budget"),
+    ("[run]", "[refine]\n[run]", "grid.beta: 1 values"),
+    ("[run]", "[refine]\nstep = 1e-300\n[run]", "refine.step"),
     // Messages that named the wrong thing (issue 26).
     ("L = [48]", "L = [-44]", "grid.L: -44 is negative"),
     (

@@ -835,3 +835,68 @@ fn failed_attempts_are_recorded_alike_by_both_engines() {
         4
     );
 }
+
+#[test]
+fn a_refined_sweep_runs_its_rounds_through_slurm_with_the_local_engine_s_points_and_rows() {
+    slurm_up();
+    let dir = workdir("refined");
+    let (toml, csv) = common::world::refined_export(&dir, "slurm-refined");
+    let (toml, csv) = (toml.to_str().unwrap(), csv.to_str().unwrap());
+    for db in ["r.sqlite", "l.sqlite"] {
+        let o = cellsweep(&dir, &["import", csv, "--db", db]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            toml,
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--watch",
+            "--poll",
+            "0.5",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Rounds one after another: each submitted once the previous one was collected.
+    assert!(text.matches("submitted").count() >= 2, "{text}");
+    let db = dir.join("r.sqlite");
+    let added = db_count(&db, "SELECT COUNT(*) FROM points") - 12;
+    assert!(added >= 2, "{text}");
+    assert_eq!(
+        db_count(&db, "SELECT COUNT(*) FROM jobs WHERE state != 'done'"),
+        0
+    );
+    // The local engine adds the same points and stores the same rows.
+    let local = cellsweep(&dir, &["run", toml, "--db", "l.sqlite", "--workers", "2"]);
+    assert!(
+        local.status.success(),
+        "{}",
+        String::from_utf8_lossy(&local.stderr)
+    );
+    let points = |db: &str| {
+        let c = rusqlite::Connection::open(dir.join(db)).unwrap();
+        let mut q = c
+            .prepare("SELECT alpha, beta FROM points ORDER BY alpha, beta")
+            .unwrap();
+        let v: Vec<(f64, f64)> = q
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
+            .unwrap()
+            .map(|r| r.unwrap())
+            .collect();
+        v
+    };
+    assert_eq!(points("r.sqlite"), points("l.sqlite"));
+    assert_eq!(
+        common::result_rows(&db, "slurm-refined"),
+        common::result_rows(&dir.join("l.sqlite"), "slurm-refined")
+    );
+}

@@ -58,6 +58,18 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
             new.preps.len()
         ),
     }
+    if let Some(r) = &sweep.refine {
+        let most = sweep.max_added_points();
+        println!(
+            "  refine: up to {} beta values per column ({most} points, at most {} more jobs and \
+             {most} more preps), added in rounds of {} once a column is finished, until its \
+             interval of beta* is at most {} wide",
+            r.max_new_per_column,
+            most * sweep.replicates as u64,
+            r.per_round,
+            r.width
+        );
+    }
     let store = if db.exists() {
         Some(Store::open_read(db)?)
     } else {

@@ -27,7 +27,10 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
         );
 
         if c.planned > 0 {
-            println!("  planned the next round: {} more replicates", c.planned);
+            println!(
+                "  planned the next round: {} more jobs (adaptive replicates, refined points)",
+                c.planned
+            );
         }
     }
     Ok(())
@@ -179,10 +182,11 @@ fn submit_round(
         println!(
             "nothing to submit: every job of {:?} has a result{}",
             sweep.name,
-            if sweep.adaptive.is_some() {
-                " and every point is settled or at its budget"
-            } else {
-                ""
+            match (sweep.adaptive.is_some(), sweep.refine.is_some()) {
+                (_, true) =>
+                    ", every point is settled and every column refined as far as its rule goes",
+                (true, false) => " and every point is settled or at its budget",
+                (false, false) => "",
             }
         );
         return Ok(Some(0));
@@ -198,7 +202,7 @@ fn submit_round(
         println!(
             "when they are done: cellsweep collect --db {}{}",
             args.db.db.display(),
-            if sweep.adaptive.is_some() {
+            if sweep.adaptive.is_some() || sweep.refine.is_some() {
                 ", then submit again for the next round (or submit --watch)"
             } else {
                 ""

@@ -25,6 +25,10 @@
 //! min_replicates = 8                       # the first round
 //! max_replicates = 96                      # the budget (default: replicates)
 //! error = 0.05                             # chance of settling on a wrong label
+//! [refine]                                 # optional: beta values where columns cross
+//! width = 1.0                              # until beta*'s 95% interval is this narrow
+//! step = 0.5                               # on multiples of this, at most
+//! max_new_per_column = 6                   # values per column, 2 per round (per_round)
 //! [run]                                    # optional: fault handling
 //! job_timeout = 3600                       # seconds per job before the worker is killed
 //! max_attempts = 3
@@ -100,18 +104,9 @@ pub struct Sweep {
 
 const GRID_KEYS: &[&str] = &["alpha", "beta", "L", "sigma"];
 
-/// Most replicates per point (and preps per point).
-pub const MAX_REPLICATES: u64 = 10_000;
-/// Most grid points of one sweep.
-pub const MAX_POINTS: u64 = 100_000;
-/// Most jobs (points x replicates) of one sweep.
-pub const MAX_JOBS: u64 = 10_000_000;
-/// Largest fiber spacing and lattice side, in sites.
-pub const MAX_SITES: u64 = 4_096;
-/// Longest job timeout: 30 days.
-pub const MAX_JOB_TIMEOUT: f64 = 30.0 * 86_400.0;
-/// Most attempts of one job.
-pub const MAX_ATTEMPTS: u64 = 100;
+pub use crate::limits::{
+    MAX_ATTEMPTS, MAX_JOBS, MAX_JOB_TIMEOUT, MAX_POINTS, MAX_REPLICATES, MAX_SITES,
+};
 
 /// A sweep name, checked: 1 to 100 of `A-Z a-z 0-9 . _ -`, not starting with a dot (the name
 /// becomes a directory, a Slurm job name and a word in scripts).
@@ -230,6 +225,18 @@ fn adaptive_rule(
     rule.validate()
         .map_err(|(key, problem)| cx.err(format!("adaptive.{key}"), problem))?;
     Ok(rule)
+}
+
+/// `[refine]`, if the file has one, checked against the grid.
+fn refine(
+    r: Option<&sweep_file::RefineFile>,
+    grid: &Grid,
+    cx: &Ctx,
+) -> Result<Option<RefineRule>, SweepError> {
+    r.map(|r| {
+        crate::refinement::rule(r, grid.beta.len()).map_err(|(key, problem)| cx.err(key, problem))
+    })
+    .transpose()
 }
 
 /// `[run]` over the defaults.
@@ -448,13 +455,7 @@ impl Sweep {
         };
         let replicates = adaptive.map_or(replicates, |a| a.max_replicates as u64);
 
-        let refine = match &f.refine {
-            None => None,
-            Some(r) => Some(
-                crate::refinement::rule(r, grid.beta.len())
-                    .map_err(|(key, problem)| cx.err(key, problem))?,
-            ),
-        };
+        let refine = refine(f.refine.as_ref(), &grid, &cx)?;
 
         let run = f
             .run

@@ -56,10 +56,10 @@ fn rounds_add_values_inside_the_interval_until_narrow_or_spent_and_match_a_fixed
         .map(|e: &PointEnds| e.counts(u32::MAX))
         .collect();
     let rule = sweep.refine.unwrap();
-    let betas_added = |l, s, a| {
+    let betas_added = |key: &cellsweep_stats::ColumnKey| {
         extra
             .iter()
-            .filter(|p| (p.L, p.sigma, p.alpha) == (l, s, a))
+            .filter(|p| sweep.axes_of(p).column() == *key)
             .count() as u32
     };
     for c in plan_round(&counts, &rule, &betas_added) {

@@ -900,3 +900,52 @@ fn a_refined_sweep_runs_its_rounds_through_slurm_with_the_local_engine_s_points_
         common::result_rows(&dir.join("l.sqlite"), "slurm-refined")
     );
 }
+
+#[test]
+fn a_sweep_over_a_non_paper_axis_runs_through_slurm_with_the_local_engine_s_rows() {
+    slurm_up();
+    let dir = workdir("other-axis");
+    let sweep = dir.join("e0.toml");
+    std::fs::write(
+        &sweep,
+        "name = \"slurm-e0\"\nseed = 5\nreplicates = 2\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\n\
+         L = [48]\nsigma = [5]\nE0 = [1000, 3000]\n[params]\nR0 = 24\n[protocol]\n\
+         single_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = 2\n",
+    )
+    .unwrap();
+    let file = sweep.to_str().unwrap();
+    let out = cellsweep(
+        &dir,
+        &[
+            "submit",
+            file,
+            "--backend",
+            "slurm",
+            "--db",
+            "r.sqlite",
+            "--watch",
+            "--poll",
+            "0.5",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let db = dir.join("r.sqlite");
+    assert_eq!(db_count(&db, "SELECT COUNT(*) FROM points"), 4);
+    assert_each_job_counted_once(&db);
+    let local = cellsweep(&dir, &["run", file, "--db", "l.sqlite", "--workers", "2"]);
+    assert!(
+        local.status.success(),
+        "{}",
+        String::from_utf8_lossy(&local.stderr)
+    );
+    let rows = common::result_rows(&db, "slurm-e0");
+    assert_eq!(rows.len(), 8);
+    assert_eq!(rows, common::result_rows(&dir.join("l.sqlite"), "slurm-e0"));
+    // Each E0 has its own prepped cells.
+    assert_eq!(db_count(&db, "SELECT COUNT(DISTINCT prep_id) FROM jobs"), 4);
+}

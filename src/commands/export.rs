@@ -6,6 +6,7 @@ use cellsweep_scheduler::wire::PrepPayload;
 use cellsweep_scheduler::{plan_targets, Ledger, RowCheck, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
+use cellsweep_stats::Axes;
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
 use cellsweep_store::JobState;
 use cellsweep_store::Store;
@@ -93,13 +94,18 @@ fn import_targets(
         }
     }
     // The grid's points, then those a refinement added (refused if this sweep could not have).
+    let axes: Vec<Axes> = rows
+        .iter()
+        .map(|r| sweep.axes_of_row(r))
+        .collect::<Result<_, _>>()
+        .map_err(|why| anyhow::anyhow!("{file}: {why}"))?;
     let points = sweep
-        .points_with(rows.iter().map(|r| (r.alpha, r.beta, r.L, r.sigma)))
+        .points_with(axes.iter().cloned())
         .map_err(|why| anyhow::anyhow!("{file}: {why}"))?;
     let index: HashMap<_, usize> = points
         .iter()
         .enumerate()
-        .map(|(i, p)| (axes_key(p.alpha, p.beta, p.L, p.sigma), i))
+        .map(|(i, p)| (sweep.axes_of(p).key(), i))
         .collect();
     let mut targets = vec![sweep.initial_replicates(); points.len()];
     let mut problems = Vec::new();
@@ -110,10 +116,11 @@ fn import_targets(
             problems.push(format!("{at}: {p}"));
         }
         // (points_with holds every row's point.)
-        let Some(&i) = index.get(&axes_key(r.alpha, r.beta, r.L, r.sigma)) else {
+        let Some(&i) = index.get(&axes[n].key()) else {
             bail!(
-                "{file}: {at}: alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
-                r.alpha, r.beta, r.L, r.sigma, sweep.name
+                "{file}: {at}: {} is not a point of sweep {:?}",
+                axes[n],
+                sweep.name
             );
         };
         if r.replicate >= sweep.replicates {
@@ -137,11 +144,6 @@ fn import_targets(
     }
     refuse(file, rows.len(), &problems)?;
     Ok((points, targets))
-}
-
-/// A point's axes, bit for bit.
-fn axes_key(alpha: f64, beta: f64, l: u32, sigma: f64) -> (u64, u64, u32, u64) {
-    (alpha.to_bits(), beta.to_bits(), l, sigma.to_bits())
 }
 
 /// Each result field in which `row` and `other` (of one job) differ, as a line naming the

@@ -219,9 +219,7 @@ fn summarize(
     );
     let loaded = cellsweep_report::load::from_store(&args.db.db, Some(&sweep.name))?;
     println!();
-    for (l, sigma) in cellsweep_report::figures::diagrams(&loaded.counts) {
-        println!("{}", text::grid_text(&loaded.counts, l, sigma));
-    }
+    print!("{}", text::grids_text(&loaded.counts));
     println!("{}", text::LEGEND);
     let unfinished = interrupted
         || loaded

@@ -6,8 +6,7 @@ use serde_json::json;
 
 use crate::cli::{Format, TableArgs};
 
-pub use cellsweep_report::figures::diagrams;
-use cellsweep_report::text::{fraction_cell, fractions, grid_text, FRACTIONS, LEGEND};
+use cellsweep_report::text::{fraction_cell, fractions, grids_text, FRACTIONS, LEGEND};
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
     let loaded = args.source.load()?;
@@ -45,9 +44,7 @@ fn standing_of(standings: Option<&[Assessment]>, i: usize) -> Option<&Assessment
 /// Each diagram's grid, then every point's counts, fractions and label.
 fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
-    for (l, sigma) in diagrams(counts) {
-        println!("{}", grid_text(counts, l, sigma));
-    }
+    print!("{}", grids_text(counts));
     println!("{LEGEND}\n");
     println!(
         "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  label{}",
@@ -76,7 +73,7 @@ fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
         let st = standing(i).map_or(String::new(), |a| {
             format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
         });
-        println!(
+        print!(
             "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
             c.alpha,
             c.beta,
@@ -90,13 +87,25 @@ fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
             cells[4],
             c.label().map_or("-", Label::as_str)
         );
+        if !c.others.is_empty() {
+            print!("  {}", c.others);
+        }
+        println!();
     }
 }
 
 /// One CSV row per point (fractions with their Wilson intervals; an adaptive sweep's standing).
 fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
-    let mut header = "alpha,beta,L,sigma,n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n".to_string();
+    // A sweep's other axes, each a column after sigma (every point has the same ones).
+    let others: Vec<&str> = counts.first().map_or(Vec::new(), |c| {
+        c.others.0.iter().map(|(n, _)| n.as_str()).collect()
+    });
+    let mut header = "alpha,beta,L,sigma,".to_string();
+    for name in &others {
+        header += &format!("{name},");
+    }
+    header += "n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n";
     for f in FRACTIONS {
         header += &format!(",f_{f},f_{f}_low,f_{f}_high");
     }
@@ -111,12 +120,12 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
     println!("{header}");
     for (i, c) in counts.iter().enumerate() {
         let n = c.total();
-        let mut row = format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
-            c.alpha,
-            c.beta,
-            c.L,
-            c.sigma,
+        let mut row = format!("{},{},{},{},", c.alpha, c.beta, c.L, c.sigma);
+        for (_, v) in &c.others.0 {
+            row += &format!("{v},");
+        }
+        row += &format!(
+            "{},{},{},{},{},{},{},{}",
             c.n_train,
             c.n_walk,
             c.n_reversal,
@@ -191,6 +200,10 @@ fn print_json(counts: &[Counts], standings: Option<&[Assessment]>) -> anyhow::Re
                 "free_speed": c.free_speed,
                 "label": c.label().map(Label::as_str),
             });
+            // A sweep's other axes, each a key beside sigma's.
+            for (name, v) in &c.others.0 {
+                row[name] = json!(v);
+            }
             if let Some(a) = standing(i) {
                 row["standing"] = json!(a.standing);
                 row["assessed_n"] = json!(a.n);

@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 pub const ADAPTIVE: &str = "[adaptive]\nbatch = 4\nmin_replicates = 4\nerror = 0.05\n";
 
 /// Every result row of a sweep, keyed by point and replicate, without wall times and
-/// timestamps: (alpha, beta, L, sigma, replicate) -> the other columns as text.
+/// timestamps: (alpha, beta, L, sigma, replicate) -> the other columns as text, ordered by
+/// point (its parameters too, which tell apart the points of a sweep's other axes).
 pub fn result_rows(db: &Path, sweep: &str) -> Vec<(String, String)> {
     let c = rusqlite::Connection::open(db).unwrap();
     let mut q = c
@@ -23,7 +24,7 @@ pub fn result_rows(db: &Path, sweep: &str) -> Vec<(String, String)> {
                     r.classifier, r.record
              FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
              JOIN sweeps s ON s.id = p.sweep_id WHERE s.name = ?1
-             ORDER BY p.L, p.sigma, p.alpha, p.beta, j.replicate",
+             ORDER BY p.L, p.sigma, p.alpha, p.beta, p.params, j.replicate",
         )
         .unwrap();
     let rows = q

@@ -8,7 +8,7 @@ use cellsweep_scheduler::export_file::{read_export, ExportFileError};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_stats::adaptive::{assess, kinds, PointEnds};
-use cellsweep_stats::{Counts, End, Label, Scales};
+use cellsweep_stats::{Axes, Counts, End, Label, Scales};
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::{Store, StoreError};
 
@@ -58,21 +58,22 @@ pub fn from_export(path: &Path) -> Result<Results, LoadError> {
 /// an export file or a store, named `source` in every message).
 fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results, LoadError> {
     // The grid's points, then any its refinement added.
-    let points = sweep
-        .points_with(rows.iter().map(|r| (r.alpha, r.beta, r.L, r.sigma)))
+    let axes: Vec<Axes> = rows
+        .iter()
+        .map(|r| sweep.axes_of_row(r))
+        .collect::<Result<_, _>>()
         .map_err(|why| LoadError::Invalid(format!("{source}: {why}")))?;
-    let (mut ends, index) = PointEnds::grid(points.iter().map(|p| (p.alpha, p.beta, p.L, p.sigma)));
+    let points = sweep
+        .points_with(axes.iter().cloned())
+        .map_err(|why| LoadError::Invalid(format!("{source}: {why}")))?;
+    let (mut ends, index) = PointEnds::grid(points.iter().map(|p| sweep.axes_of(p)));
     // Each distinct prep's free speed (a point's replicates share their preps round-robin).
     let mut speeds: Vec<Vec<(u64, f64)>> = vec![Vec::new(); ends.len()];
-    for r in rows {
-        let Some(i) = index.of(r.alpha, r.beta, r.L, r.sigma) else {
+    for (r, at) in rows.iter().zip(&axes) {
+        let Some(i) = index.of(at) else {
             invalid!(
-                "{}: a row at alpha = {}, beta = {}, L = {}, sigma = {} is not a point of sweep {:?}",
+                "{}: a row at {at} is not a point of sweep {:?}",
                 source,
-                r.alpha,
-                r.beta,
-                r.L,
-                r.sigma,
                 sweep.name
             );
         };
@@ -326,6 +327,7 @@ impl CountsColumns {
             beta: row.number(idx[1], -1e6, 1e6)?,
             L: l as u32,
             sigma: row.number(idx[3], 0.0, 1e6)?,
+            others: Default::default(),
             n_train: row.count(idx[4])?,
             n_walk: row.count(idx[5])?,
             n_reversal: row.count(idx[6])?,

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{wilson, Counts, Label};
+use cellsweep_stats::{wilson, Counts, Label, Others};
 use cellsweep_store::PointCounts;
 
 /// Sorted distinct values.
@@ -42,20 +42,45 @@ pub fn fraction_cell(k: u64, n: u64) -> String {
     format!("{k:>3} {:.2} [{:.2}, {:.2}]", f.value, f.low, f.high)
 }
 
-/// The grid of one diagram: alpha across, beta down (largest beta on top, as in the paper).
-pub fn grid_text(counts: &[Counts], spacing: u32, sigma: f64) -> String {
-    let pts: Vec<&Counts> = counts
-        .iter()
-        .filter(|c| c.L == spacing && c.sigma == sigma)
-        .collect();
+/// Every diagram's grid of labels: one per (L, sigma) as in the paper and, in a sweep with
+/// other axes, per combination of their values (named in the grid's title).
+pub fn grids_text(counts: &[Counts]) -> String {
+    let mut groups: Vec<&Others> = Vec::new();
+    for c in counts {
+        if !groups.contains(&&c.others) {
+            groups.push(&c.others);
+        }
+    }
+    let mut s = String::new();
+    for others in groups {
+        let group: Vec<Counts> = counts
+            .iter()
+            .filter(|c| c.others == *others)
+            .cloned()
+            .collect();
+        for (l, sigma) in crate::figures::diagrams(&group) {
+            let pts: Vec<&Counts> = group
+                .iter()
+                .filter(|c| c.L == l && c.sigma == sigma)
+                .collect();
+            let mut title = format!("L = {l}, sigma = {sigma}");
+            if !others.is_empty() {
+                let _ = write!(title, ", {others}");
+            }
+            let _ = writeln!(s, "{}", grid_of(&pts, &title));
+        }
+    }
+    s
+}
+
+/// The grid of one diagram's points: alpha across, beta down (largest beta on top, as in the
+/// paper).
+fn grid_of(pts: &[&Counts], title: &str) -> String {
     let alphas = axis(pts.iter().map(|c| c.alpha));
     let betas = axis(pts.iter().map(|c| c.beta));
     let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
     let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "L = {spacing}, sigma = {sigma} (up to {n} replicates per point)"
-    );
+    let _ = writeln!(s, "{title} (up to {n} replicates per point)");
     let _ = write!(s, "{:>10} |", "beta \\ alpha");
     for a in &alphas {
         let _ = write!(s, " {a:>5}");

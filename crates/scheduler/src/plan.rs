@@ -74,10 +74,11 @@ pub fn plan_targets(
     let mut prep_index: HashMap<(String, u32), usize> = HashMap::new();
     let mut rows = Vec::new();
     for (idx, params) in points.iter().enumerate() {
-        let key = prep_key(params, &sweep.protocol);
+        let protocol = sweep.protocol_for(params);
+        let key = prep_key(params, &protocol);
         let config = Config {
             params: params.clone(),
-            protocol: sweep.protocol.clone(),
+            protocol,
             classifier: sweep.classifier.clone(),
         };
         // (Plain data, as in `prep_key`.)
@@ -106,6 +107,7 @@ pub fn plan_targets(
             beta: params.beta,
             spacing: params.L,
             sigma: params.sigma,
+            others: sweep.axes_of(params).others,
             config: config_json,
             jobs,
         });

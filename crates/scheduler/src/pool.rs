@@ -67,10 +67,11 @@ impl Process {
             });
         }
         let mut child = command.spawn()?;
-        // (All three were piped by the command above.)
+        // All three were piped by the command above, so each take() finds its pipe.
         let stdin = child.stdin.take().expect("piped stdin");
-        let stdout = BufReader::new(child.stdout.take().expect("piped stdout")).lines();
-        let stderr = child.stderr.take().expect("piped stderr");
+        let stdout = child.stdout.take().expect("piped stdout"); // piped above
+        let stdout = BufReader::new(stdout).lines();
+        let stderr = child.stderr.take().expect("piped stderr"); // piped above
         let stderr_tail = Arc::new(Mutex::new(VecDeque::new()));
         let tail = stderr_tail.clone();
         let stderr_task = tokio::spawn(async move {

@@ -27,7 +27,8 @@ pub struct SweepFile {
     pub replicates: Option<Whole>,
     pub preps_per_point: Option<Whole>,
     pub geometry: Option<Geometry>,
-    pub grid: Option<GridFile>,
+    /// Kept as a table until its paper axes and any other are told apart (see [`grid`]).
+    pub grid: Option<Table>,
     /// Kept as a table until its keys are checked against the grid axes (see [`params`]).
     pub params: Option<Table>,
     pub protocol: Option<ProtocolFile>,
@@ -37,7 +38,7 @@ pub struct SweepFile {
     pub run: Option<RunFile>,
 }
 
-/// `[grid]`: the four swept axes.
+/// `[grid]`'s paper axes.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
@@ -217,6 +218,62 @@ pub fn read(text: &str, file: &str) -> Result<SweepFile, SweepError> {
     typed(Value::Table(top), "", file)
 }
 
+/// An axis of `[grid]` beyond the paper's four, as written: a SPEC parameter's name and its
+/// values (numbers as an [`AxisFile`]; geometry as one or more of `"one"`, `"two"`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum OtherAxisFile {
+    Numbers(AxisFile),
+    Geometries(Vec<Geometry>),
+}
+
+/// `[grid]` split into the paper's four axes and any other, in the file's order. A name that
+/// is no SPEC parameter is refused here, naming the ones there are.
+pub fn grid(
+    table: Table,
+    file: &str,
+) -> Result<(GridFile, Vec<(String, OtherAxisFile)>), SweepError> {
+    let paper = |k: &str| matches!(k, "alpha" | "beta" | "L" | "sigma");
+    let (four, rest): (Table, Table) = table.into_iter().partition(|(k, _)| paper(k));
+    let grid: GridFile = typed(Value::Table(four), "grid.", file)?;
+    let mut others = Vec::new();
+    for (key, value) in rest {
+        if !PARAM_NAMES.contains(&key.as_str()) {
+            let known: Vec<&str> = PARAM_NAMES.iter().copied().filter(|k| !paper(k)).collect();
+            return Err(SweepError::new(
+                file,
+                format!("grid.{key}"),
+                format!(
+                    "unknown parameter (known: alpha, beta, L, sigma, {})",
+                    known.join(", ")
+                ),
+            ));
+        }
+        let one = |v: Value| {
+            let mut t = Table::new();
+            t.insert(key.clone(), v);
+            Value::Table(t)
+        };
+        let axis = if key == "geometry" {
+            let list = match value {
+                Value::Array(_) => value,
+                v => Value::Array(vec![v]),
+            };
+            let mut g: std::collections::BTreeMap<String, Vec<Geometry>> =
+                typed(one(list), "grid.", file)?;
+            OtherAxisFile::Geometries(g.remove(&key).unwrap_or_default())
+        } else {
+            let mut a: std::collections::BTreeMap<String, AxisFile> =
+                typed(one(value), "grid.", file)?;
+            match a.remove(&key) {
+                Some(a) => OtherAxisFile::Numbers(a),
+                None => continue,
+            }
+        };
+        others.push((key, axis));
+    }
+    Ok((grid, others))
+}
+
 /// `[params]` as the model's parameters (defaults for every key not given). The grid axes and
 /// the geometry have their own places and are refused here with a pointer to them.
 pub fn params(table: Table, file: &str) -> Result<Params, SweepError> {
@@ -314,8 +371,16 @@ mod tests {
         assert!(err("name = \"a\"\nreplicate = 3")
             .starts_with("f.toml: replicate: unknown key `replicate`"));
         assert!(err("[protocol]\nwindows = 3").starts_with("f.toml: protocol.windows: "));
-        assert!(err("[grid]\ngamma = [1]").starts_with("f.toml: grid.gamma: "));
-        assert!(err("[grid]\nalpha = { from = 1, to = 2, by = 1 }").contains("grid.alpha"));
+        // `[grid]` is split into its axes after reading.
+        let grid_err = |text: &str| {
+            grid(read(text, "f.toml").unwrap().grid.unwrap(), "f.toml")
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(grid_err("[grid]\ngamma = [1]").starts_with(
+            "f.toml: grid.gamma: unknown parameter (known: alpha, beta, L, sigma, geometry, d,"
+        ));
+        assert!(grid_err("[grid]\nalpha = { from = 1, to = 2, by = 1 }").contains("grid.alpha"));
         assert!(err("[param]\nR0 = 2").starts_with("f.toml: param: "));
     }
 
@@ -339,7 +404,7 @@ mod tests {
             "f",
         )
         .unwrap();
-        let g = f.grid.unwrap();
+        let g = grid(f.grid.unwrap(), "f").unwrap().0;
         assert_eq!(g.alpha, Some(AxisFile::One(0.1)));
         assert_eq!(g.beta, Some(AxisFile::List(vec![10.0, 14.5])));
         assert_eq!(

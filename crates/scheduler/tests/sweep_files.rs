@@ -63,7 +63,11 @@ fn malformed_files_get_one_line_naming_file_key_and_problem() {
         "params.dt",
     );
     assert!(e.contains("unstable"), "{e}");
-    error(&GOOD.replace("[grid]", "[grid]\nd = [1]"), "grid.d");
+    // (Any SPEC parameter may be an axis: d may, a radius may not.)
+    error(
+        &GOOD.replace("[grid]", "[grid]\nradius = [1]"),
+        "grid.radius",
+    );
     error(&GOOD.replace("name = \"paper-L90\"", ""), "name");
     error(
         &GOOD.replace("relax_time = 40", "relax_time = 40.0001"),

@@ -147,6 +147,36 @@ impl Params {
         (self.t_sample / self.dt).round().max(1.0) as u64
     }
 
+    /// One parameter by its SPEC name as a number (geometry: 1 or 2; L as a number), or None
+    /// for a name that is not a parameter. `set(name, get(name))` changes nothing.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "alpha" => self.alpha,
+            "beta" => self.beta,
+            "L" => self.L as f64,
+            "sigma" => self.sigma,
+            "geometry" => match self.geometry {
+                Geometry::One => 1.0,
+                Geometry::Two => 2.0,
+            },
+            "d" => self.d,
+            "R0" => self.R0,
+            "lambda" => self.lambda,
+            "E0" => self.E0,
+            "A_ref" => self.A_ref,
+            "g" => self.g,
+            "inv_gamma" => self.inv_gamma,
+            "eta" => self.eta,
+            "v0" => self.v0,
+            "A" => self.A,
+            "tau" => self.tau,
+            "dt" => self.dt,
+            "t_sample" => self.t_sample,
+            "phi_min" => self.phi_min,
+            _ => return None,
+        })
+    }
+
     /// Set one parameter by its SPEC name from a number (geometry takes 1 or 2).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), NameError> {
         let slot = match name {
@@ -289,5 +319,29 @@ impl Params {
             });
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_gets_what_set_gave_it() {
+        for (i, name) in PARAM_NAMES.iter().enumerate() {
+            let mut p = Params::default();
+            let value = match *name {
+                "geometry" => 1.0,
+                "L" => 64.0,
+                _ => 0.5 + i as f64,
+            };
+            p.set(name, value).unwrap();
+            assert_eq!(p.get(name), Some(value), "{name}");
+            let mut q = Params::default();
+            q.set(name, p.get(name).unwrap()).unwrap();
+            assert_eq!(p, q, "{name}: set(get) changes nothing else");
+            assert_ne!(q, Params::default(), "{name}: set reached its own field");
+        }
+        assert_eq!(Params::default().get("radius"), None);
     }
 }

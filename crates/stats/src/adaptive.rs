@@ -36,6 +36,7 @@ use std::collections::HashMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::axes::{Axes, ColumnKey, Others, PointKey};
 use crate::binomial::clopper_pearson;
 use crate::counts::{Counts, Label};
 use crate::end::End;
@@ -183,19 +184,14 @@ pub struct Assessment {
     pub next_round: Option<u32>,
 }
 
-fn grid_key(alpha: f64, beta: f64, l: u32, sigma: f64) -> (u64, u64, u32, u64) {
-    (alpha.to_bits(), beta.to_bits(), l, sigma.to_bits())
-}
-
-/// Finds a grid point by its axes (exactly, bit for bit, as the grid wrote them).
+/// Finds a point by its axes (exactly, bit for bit, as the sweep wrote them).
 #[derive(Debug, Clone, Default)]
-pub struct GridIndex(HashMap<(u64, u64, u32, u64), usize>);
+pub struct GridIndex(HashMap<PointKey, usize>);
 
 impl GridIndex {
-    /// The index of the point (alpha, beta, L, sigma) in its grid.
-    #[allow(non_snake_case)]
-    pub fn of(&self, alpha: f64, beta: f64, L: u32, sigma: f64) -> Option<usize> {
-        self.0.get(&grid_key(alpha, beta, L, sigma)).copied()
+    /// The index of the point at `axes` in its sweep.
+    pub fn of(&self, axes: &Axes) -> Option<usize> {
+        self.0.get(&axes.key()).copied()
     }
 }
 
@@ -207,6 +203,8 @@ pub struct PointEnds {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
+    /// The sweep's other axes at this point (empty for the paper's four).
+    pub others: Others,
     pub ends: Vec<Option<End>>,
 }
 
@@ -214,28 +212,40 @@ impl PointEnds {
     /// The point (alpha, beta, L, sigma) with no replicate finished yet.
     #[allow(non_snake_case)]
     pub fn new(alpha: f64, beta: f64, L: u32, sigma: f64) -> PointEnds {
+        PointEnds::at(Axes::new(alpha, beta, L, sigma))
+    }
+
+    /// The point at `axes` with no replicate finished yet.
+    pub fn at(axes: Axes) -> PointEnds {
         PointEnds {
-            alpha,
-            beta,
-            L,
-            sigma,
+            alpha: axes.alpha,
+            beta: axes.beta,
+            L: axes.L,
+            sigma: axes.sigma,
+            others: axes.others,
             ends: Vec::new(),
         }
     }
 
-    /// Every point of a grid, in its order, with no replicate finished yet, and the index that
-    /// finds a point by its axes.
-    pub fn grid(
-        points: impl IntoIterator<Item = (f64, f64, u32, f64)>,
-    ) -> (Vec<PointEnds>, GridIndex) {
-        let ends: Vec<PointEnds> = points
-            .into_iter()
-            .map(|(a, b, l, s)| PointEnds::new(a, b, l, s))
-            .collect();
+    /// The point's axes.
+    pub fn axes(&self) -> Axes {
+        Axes {
+            alpha: self.alpha,
+            beta: self.beta,
+            L: self.L,
+            sigma: self.sigma,
+            others: self.others.clone(),
+        }
+    }
+
+    /// Every point of a sweep, in its order, with no replicate finished yet, and the index
+    /// that finds a point by its axes.
+    pub fn grid(points: impl IntoIterator<Item = Axes>) -> (Vec<PointEnds>, GridIndex) {
+        let ends: Vec<PointEnds> = points.into_iter().map(PointEnds::at).collect();
         let index = GridIndex(
             ends.iter()
                 .enumerate()
-                .map(|(i, p)| (grid_key(p.alpha, p.beta, p.L, p.sigma), i))
+                .map(|(i, p)| (p.axes().key(), i))
                 .collect(),
         );
         (ends, index)
@@ -261,7 +271,10 @@ impl PointEnds {
 
     /// Outcome counts of the first `n` replicates (all finished).
     pub fn counts(&self, n: u32) -> Counts {
-        let mut c = Counts::none(self.alpha, self.beta, self.L, self.sigma);
+        let mut c = Counts {
+            others: self.others.clone(),
+            ..Counts::none(self.alpha, self.beta, self.L, self.sigma)
+        };
         for end in self.ends.iter().take(n as usize).flatten() {
             *match end {
                 End::Train => &mut c.n_train,
@@ -375,7 +388,7 @@ pub fn kinds(preps_per_point: u32) -> u32 {
     }
 }
 
-/// Assess every point of a sweep (any order; columns are found by (L, sigma, alpha)).
+/// Assess every point of a sweep (any order; columns are found by every axis but beta).
 pub fn assess(points: &[PointEnds], rule: &AdaptiveRule, kinds: u32) -> Vec<Assessment> {
     let mut iv = Intervals::new(rule, kinds);
     assess_with(points, rule, &mut iv)
@@ -444,13 +457,10 @@ fn assess_point(p: &PointEnds, rule: &AdaptiveRule, iv: &mut Intervals) -> Asses
 /// The sign rule: an open point whose sign of (walk-past - training) is certain is settled by
 /// sign when its nearest collided neighbours in beta, in its column, have the same certain sign.
 fn settle_by_sign(points: &[PointEnds], out: &mut [Assessment]) {
-    let mut columns: HashMap<(u32, u64, u64), Vec<usize>> = HashMap::new();
+    let mut columns: HashMap<ColumnKey, Vec<usize>> = HashMap::new();
     for (i, p) in points.iter().enumerate() {
         if out[i].standing != Standing::Verdict {
-            columns
-                .entry((p.L, p.sigma.to_bits(), p.alpha.to_bits()))
-                .or_default()
-                .push(i);
+            columns.entry(p.axes().column()).or_default().push(i);
         }
     }
     let mut by_sign = Vec::new();

@@ -14,6 +14,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::axes::{Axes, PointKey};
 use crate::counts::{Counts, Label};
 use crate::end::{End, Replicate};
 
@@ -80,10 +81,15 @@ const DRAWS: u32 = 20_000;
 /// Exact enumeration up to this many discordant pairs (2^20 sign patterns).
 const EXACT_UP_TO: usize = 20;
 
-type PointKey = (u64, u64, u32, u64);
-
 fn key(r: &Replicate) -> PointKey {
-    (r.alpha.to_bits(), r.beta.to_bits(), r.L, r.sigma.to_bits())
+    Axes {
+        alpha: r.alpha,
+        beta: r.beta,
+        L: r.L,
+        sigma: r.sigma,
+        others: r.others.clone(),
+    }
+    .key()
 }
 
 /// The distinct grid points of a result set, in the order they first appear.
@@ -143,6 +149,7 @@ fn label_of(c: &EndCounts, first: &Replicate) -> Option<Label> {
         beta: first.beta,
         L: first.L,
         sigma: first.sigma,
+        others: first.others.clone(),
         n_train: c[0],
         n_walk: c[1],
         n_reversal: c[2],
@@ -321,6 +328,8 @@ mod tests {
             beta,
             L: 90,
             sigma: 5.0,
+            others: Default::default(),
+            point: 0,
             replicate,
             seed,
             prep_seed: 7,

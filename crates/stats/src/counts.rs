@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::axes::{Axes, ColumnKey, Others};
+
 /// The label of a grid point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -74,6 +76,9 @@ pub struct Counts {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
+    /// The sweep's other axes at this point (empty for the paper's four).
+    #[serde(default, skip_serializing_if = "Others::is_empty")]
+    pub others: Others,
     pub n_train: u64,
     pub n_walk: u64,
     pub n_reversal: u64,
@@ -102,6 +107,7 @@ impl Counts {
             beta,
             L,
             sigma,
+            others: Others::default(),
             n_train: 0,
             n_walk: 0,
             n_reversal: 0,
@@ -112,6 +118,27 @@ impl Counts {
             verdict: None,
             free_speed: None,
         }
+    }
+
+    /// The point's axes.
+    pub fn axes(&self) -> Axes {
+        Axes {
+            alpha: self.alpha,
+            beta: self.beta,
+            L: self.L,
+            sigma: self.sigma,
+            others: self.others.clone(),
+        }
+    }
+
+    /// The identity of the point's column (every axis but beta).
+    pub fn column(&self) -> ColumnKey {
+        (
+            self.alpha.to_bits(),
+            self.L,
+            self.sigma.to_bits(),
+            self.others.bits(),
+        )
     }
 
     /// All replicates with a result.

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::axes::Others;
+
 /// How one replicate ended: its collision's outcome, or its prep's verdict where the prep was
 /// not `ok` (no collision ran). `Breakup` is the prep's verdict; a collision in which a cell
 /// broke up is `CollisionBreakup`.
@@ -56,6 +58,12 @@ pub struct Replicate {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
+    /// The sweep's other axes at its point (empty for the paper's four).
+    #[serde(default, skip_serializing_if = "Others::is_empty")]
+    pub others: Others,
+    /// Its point's index in the sweep.
+    #[serde(default)]
+    pub point: u32,
     pub replicate: u32,
     /// The collision's seed.
     pub seed: u64,

@@ -17,6 +17,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+use crate::axes::{ColumnKey, Others};
 use crate::column_model::{fit_column, ColumnModel, Tally};
 use crate::counts::Counts;
 use crate::model_line::{line_from_columns, Crossing};
@@ -66,6 +67,14 @@ impl Default for Scales {
 }
 
 impl Scales {
+    /// The scales at a point whose sweep varies R0 or d: its own values over these.
+    pub fn at(&self, others: &Others) -> Scales {
+        Scales {
+            R0: others.get("R0").unwrap_or(self.R0),
+            d: others.get("d").unwrap_or(self.d),
+        }
+    }
+
     /// x = alpha~ / L~ of a column, with the adhesion shift.
     pub fn x(&self, alpha: f64, spacing: u32, sigma: f64) -> f64 {
         let alpha_eff = alpha + SIGMA_SHIFT * (5.0 - sigma);
@@ -86,7 +95,10 @@ pub struct Column {
     pub L: u32,
     pub sigma: f64,
     pub alpha: f64,
-    /// alpha~ / L~ with the sigma shift.
+    /// The sweep's other axes in this column (empty for the paper's four).
+    #[serde(default, skip_serializing_if = "Others::is_empty")]
+    pub others: Others,
+    /// alpha~ / L~ with the sigma shift, at the column's own R0 and d.
     pub x: f64,
     /// The crossing by `method`, if the column has one.
     pub beta_star: Option<f64>,
@@ -110,6 +122,16 @@ pub struct Column {
 }
 
 impl Column {
+    /// The column's identity, as [`Counts::column`] gives it.
+    pub fn key(&self) -> ColumnKey {
+        (
+            self.alpha.to_bits(),
+            self.L,
+            self.sigma.to_bits(),
+            self.others.bits(),
+        )
+    }
+
     /// Its crossing with the spreads of its interval, where it has both.
     pub(crate) fn crossing(&self) -> Option<Crossing> {
         Some(Crossing::new(self.x, self.beta_star?, self.beta_ci?))
@@ -197,26 +219,27 @@ pub(crate) fn columns(
     scales: &Scales,
     diff: &dyn Fn(usize) -> i64,
 ) -> Vec<Column> {
-    let mut keys: Vec<(u32, f64, f64)> = Vec::new();
+    let mut firsts: Vec<&Counts> = Vec::new();
     for c in counts {
-        if !keys
-            .iter()
-            .any(|&(l, s, a)| l == c.L && s == c.sigma && a == c.alpha)
-        {
-            keys.push((c.L, c.sigma, c.alpha));
+        if !firsts.iter().any(|f| f.column() == c.column()) {
+            firsts.push(c);
         }
     }
-    keys.sort_by(|x, y| {
-        (x.0.cmp(&y.0))
-            .then(x.1.total_cmp(&y.1))
-            .then(x.2.total_cmp(&y.2))
+    firsts.sort_by(|x, y| {
+        (x.L.cmp(&y.L))
+            .then(x.sigma.total_cmp(&y.sigma))
+            .then(x.alpha.total_cmp(&y.alpha))
+            .then(x.others.bits().cmp(&y.others.bits()))
     });
-    keys.into_iter()
-        .map(|(l, sigma, alpha)| {
+    firsts
+        .into_iter()
+        .map(|first| {
+            let (l, sigma, alpha) = (first.L, first.sigma, first.alpha);
+            let key = first.column();
             let mut pts: Vec<(f64, i64)> = counts
                 .iter()
                 .enumerate()
-                .filter(|(_, c)| c.L == l && c.sigma == sigma && c.alpha == alpha && c.collided())
+                .filter(|(_, c)| c.column() == key && c.collided())
                 .map(|(i, c)| (c.beta, diff(i)))
                 .collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -228,7 +251,8 @@ pub(crate) fn columns(
                 L: l,
                 sigma,
                 alpha,
-                x: scales.x(alpha, l, sigma),
+                others: first.others.clone(),
+                x: scales.at(&first.others).x(alpha, l, sigma),
                 beta_star,
                 beta_ci: None,
                 skipped,
@@ -276,7 +300,7 @@ pub(crate) fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
 pub(crate) fn tallies(counts: &[Counts], c: &Column) -> Vec<Tally> {
     counts
         .iter()
-        .filter(|p| p.L == c.L && p.sigma == c.sigma && p.alpha == c.alpha && p.collided())
+        .filter(|p| p.column() == c.key() && p.collided())
         .map(|p| Tally {
             beta: p.beta,
             walk: p.n_walk,

@@ -22,6 +22,7 @@
 //! labels, standings, lines and tests.
 
 pub mod adaptive;
+pub mod axes;
 pub mod binomial;
 pub mod column_model;
 pub mod compare;
@@ -36,6 +37,7 @@ pub mod shift;
 pub mod throughput;
 
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
+pub use axes::{Axes, ColumnKey, Others, PointKey};
 pub use binomial::clopper_pearson;
 pub use column_model::{fit_column, ColumnModel, NoModelCrossing, Tally};
 pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};

@@ -11,6 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::axes::{ColumnKey, Others};
 use crate::column_model::{fit_column, ColumnModel, NoModelCrossing};
 use crate::counts::Counts;
 use crate::fit::{columns, tallies, Scales};
@@ -22,6 +23,8 @@ pub struct ColumnRound {
     pub L: u32,
     pub sigma: f64,
     pub alpha: f64,
+    /// The sweep's other axes in this column.
+    pub others: Others,
     pub need: ColumnNeed,
 }
 
@@ -119,19 +122,19 @@ impl RefineRule {
     }
 }
 
-/// The next round of every (L, sigma, alpha) column of `counts`; `added` says how many values
+/// The next round of every column of `counts` (every axis but beta); `added` says how many values
 /// earlier rounds added to a column.
 pub fn plan_round(
     counts: &[Counts],
     rule: &RefineRule,
-    added: &dyn Fn(u32, f64, f64) -> u32,
+    added: &dyn Fn(&ColumnKey) -> u32,
 ) -> Vec<ColumnRound> {
     columns(counts, &Scales::default(), &|_| 0)
         .into_iter()
         .map(|c| {
             let present: Vec<f64> = counts
                 .iter()
-                .filter(|p| (p.L, p.sigma, p.alpha) == (c.L, c.sigma, c.alpha))
+                .filter(|p| p.column() == c.key())
                 .map(|p| p.beta)
                 .collect();
             let model = fit_column(&tallies(counts, &c));
@@ -139,7 +142,8 @@ pub fn plan_round(
                 L: c.L,
                 sigma: c.sigma,
                 alpha: c.alpha,
-                need: rule.need(&model, &present, added(c.L, c.sigma, c.alpha)),
+                need: rule.need(&model, &present, added(&c.key())),
+                others: c.others,
             }
         })
         .collect()
@@ -237,7 +241,7 @@ mod tests {
             counts.push(point(0.1, beta, walk));
             counts.push(point(0.2, beta, 0));
         }
-        let plan = plan_round(&counts, &RULE, &|_, _, _| 0);
+        let plan = plan_round(&counts, &RULE, &|_| 0);
         assert_eq!(plan.len(), 2);
         let ColumnNeed::Add(v) = &plan[0].need else {
             panic!("{plan:?}");

@@ -52,7 +52,7 @@ fn interpolate() -> Method {
 /// column to leave out): None without a sigma = 5 line or a sigma = 0 crossing.
 fn solve(cols: &[Column], scales: &Scales, weight: &Weight) -> Option<(f64, f64, f64)> {
     // x without any adhesion correction is the sigma = 5 x (the shift is what is measured).
-    let raw = |c: &Column| scales.x(c.alpha, c.L, 5.0);
+    let raw = |c: &Column| scales.at(&c.others).x(c.alpha, c.L, 5.0);
     let five: Vec<(f64, f64, f64)> = cols
         .iter()
         .filter(|c| c.sigma == 5.0)
@@ -62,7 +62,8 @@ fn solve(cols: &[Column], scales: &Scales, weight: &Weight) -> Option<(f64, f64,
     let (mut num, mut den) = (0.0, 0.0);
     for c in cols.iter().filter(|c| c.sigma == 0.0) {
         if let (Some(star), Some(w)) = (c.beta_star, weight(c)) {
-            let k = scales.x(1.0, c.L, 5.0) - scales.x(0.0, c.L, 5.0);
+            let at = scales.at(&c.others);
+            let k = at.x(1.0, c.L, 5.0) - at.x(0.0, c.L, 5.0);
             num += w * k * (star - a * raw(c) - b);
             den += w * k * k;
         }
@@ -135,9 +136,7 @@ pub fn measure_shift(
                     .collect();
                 // The weights stay those of the observed columns.
                 let w = |c: &Column| {
-                    let obs = cols
-                        .iter()
-                        .find(|o| (o.L, o.sigma, o.alpha) == (c.L, c.sigma, c.alpha))?;
+                    let obs = cols.iter().find(|o| o.key() == c.key())?;
                     model_weight(obs)
                 };
                 if let Some((_, _, d)) = solve(&drawn, scales, &w) {
@@ -168,7 +167,7 @@ fn model_scatter(cols: &[Column], scales: &Scales, (a, b, delta): (f64, f64, f64
         } else {
             c.alpha
         };
-        let line = a * scales.x(alpha, c.L, 5.0) + b;
+        let line = a * scales.at(&c.others).x(alpha, c.L, 5.0) + b;
         Some((x.star - line) / x.sd().max(1e-3))
     });
     birge(residuals, 3)

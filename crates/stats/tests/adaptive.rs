@@ -111,6 +111,7 @@ fn point(beta: f64, ends: &[End]) -> PointEnds {
         beta,
         L: 90,
         sigma: 5.0,
+        others: Default::default(),
         ends: ends.iter().map(|&e| Some(e)).collect(),
     }
 }

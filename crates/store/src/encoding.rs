@@ -30,3 +30,27 @@ pub fn bytes_to_f64s(b: &[u8]) -> Vec<f64> {
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect()
 }
+
+/// The values of a sweep's other grid axes `names` in a point's stored configuration JSON
+/// (`{"params": {...}, ...}`, as the planner wrote it): numbers as they are, geometry `"one"`
+/// as 1 and `"two"` as 2. A value that is missing or of another kind reads NaN, which matches
+/// no point.
+pub fn point_others(config: &str, names: &[&str]) -> cellsweep_stats::Others {
+    let parsed: Option<serde_json::Value> = serde_json::from_str(config).ok();
+    let params = parsed.as_ref().map(|c| &c["params"]);
+    cellsweep_stats::Others(
+        names
+            .iter()
+            .map(|&name| {
+                let v = params.map(|p| &p[name]);
+                let x = match v {
+                    Some(serde_json::Value::String(s)) if s == "one" => 1.0,
+                    Some(serde_json::Value::String(s)) if s == "two" => 2.0,
+                    Some(v) => v.as_f64().unwrap_or(f64::NAN),
+                    None => f64::NAN,
+                };
+                (name.to_string(), x)
+            })
+            .collect(),
+    )
+}

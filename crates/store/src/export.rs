@@ -6,6 +6,8 @@ use std::collections::HashMap;
 use rusqlite::params;
 use serde::{Deserialize, Serialize};
 
+use cellsweep_stats::{Axes, Others};
+
 use crate::database::Store;
 use crate::digest::fnv1a;
 use crate::encoding::seed_from_sql;
@@ -307,25 +309,31 @@ impl Store {
 }
 
 impl Store {
-    /// The job of a sweep's point (by its axes) and replicate under `version`, if any.
+    /// The job of a sweep's point and replicate under `version`, if any: the point at `axes`,
+    /// its other axes read by `others_of` out of each candidate point's configuration JSON.
     pub fn job_at(
         &self,
         sweep_id: i64,
         version: &str,
-        axes: (f64, f64, u32, f64),
+        axes: &Axes,
         replicate: u32,
+        others_of: &dyn Fn(&str) -> Others,
     ) -> Result<Option<i64>> {
-        use rusqlite::OptionalExtension;
-        Ok(self
-            .conn
-            .query_row(
-                "SELECT j.id FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND p.alpha = ?3
-                   AND p.beta = ?4 AND p.L = ?5 AND p.sigma = ?6 AND j.replicate = ?7",
-                params![sweep_id, version, axes.0, axes.1, axes.2, axes.3, replicate],
-                |r| r.get(0),
-            )
-            .optional()?)
+        let mut q = self.conn.prepare_cached(
+            "SELECT j.id, p.params FROM jobs j JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND p.alpha = ?3
+               AND p.beta = ?4 AND p.L = ?5 AND p.sigma = ?6 AND j.replicate = ?7",
+        )?;
+        let mut rows = q.query(params![
+            sweep_id, version, axes.alpha, axes.beta, axes.L, axes.sigma, replicate
+        ])?;
+        while let Some(r) = rows.next()? {
+            let config: String = r.get(1)?;
+            if axes.others.is_empty() || others_of(&config).bits() == axes.others.bits() {
+                return Ok(Some(r.get(0)?));
+            }
+        }
+        Ok(None)
     }
 }
 

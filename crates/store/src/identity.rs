@@ -6,6 +6,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use rusqlite::{params, OptionalExtension};
 
+use cellsweep_stats::{Axes, Others};
+
 use crate::database::Store;
 use crate::encoding::seed_from_sql;
 use crate::error::Result;
@@ -128,14 +130,25 @@ impl Store {
         Ok(out)
     }
 
-    /// The axes (alpha, beta, L, sigma) of every point of a sweep, by point index: its grid's,
-    /// then those its refinement added.
-    pub fn point_axes(&self, sweep_id: i64) -> Result<Vec<(f64, f64, u32, f64)>> {
-        let mut q = self
-            .conn
-            .prepare("SELECT alpha, beta, L, sigma FROM points WHERE sweep_id = ?1 ORDER BY idx")?;
+    /// The axes of every point of a sweep, by point index (its grid's, then those its
+    /// refinement added): the paper's four as stored, and the others read by `others_of` out
+    /// of the point's configuration JSON.
+    pub fn point_axes(
+        &self,
+        sweep_id: i64,
+        others_of: &dyn Fn(&str) -> Others,
+    ) -> Result<Vec<Axes>> {
+        let mut q = self.conn.prepare(
+            "SELECT alpha, beta, L, sigma, params FROM points WHERE sweep_id = ?1 ORDER BY idx",
+        )?;
         let rows = q.query_map([sweep_id], |r| {
-            Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?))
+            Ok(Axes {
+                alpha: r.get(0)?,
+                beta: r.get(1)?,
+                L: r.get(2)?,
+                sigma: r.get(3)?,
+                others: others_of(&r.get::<_, String>(4)?),
+            })
         })?;
         Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
     }

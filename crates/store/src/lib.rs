@@ -25,7 +25,7 @@ mod tasks;
 mod transitions;
 
 pub use database::Store;
-pub use encoding::{bytes_to_f64s, f64s_to_bytes, now};
+pub use encoding::{bytes_to_f64s, f64s_to_bytes, now, point_others};
 pub use error::{Result, StoreError};
 pub use identity::{JobIdentity, PointJobs, PrepIdentity};
 pub use lifecycle::JobState;

@@ -2,10 +2,11 @@
 //! or changes its adaptive rule in place, or a different one under a taken name (refused, or
 //! archived with `--replace`).
 
+use cellsweep_stats::{Axes, Others, PointKey};
 use rusqlite::{params, OptionalExtension};
 
 use crate::database::Store;
-use crate::encoding::{now, seed_to_sql};
+use crate::encoding::{now, point_others, seed_to_sql};
 use crate::error::{Result, StoreError};
 
 /// A sweep to register: its points, their jobs, and the preps they start from.
@@ -34,6 +35,8 @@ pub struct NewPoint {
     pub beta: f64,
     pub spacing: u32,
     pub sigma: f64,
+    /// The sweep's other axes at this point (empty for the paper's four).
+    pub others: Others,
     /// JSON of what a worker needs to run a collision (parameters, protocol, classifier).
     pub config: String,
     pub jobs: Vec<NewJob>,
@@ -161,21 +164,39 @@ fn sweep_row(tx: &rusqlite::Connection, sweep: &NewSweep, replace: bool) -> Resu
 
 /// The id of every point of `sweep`, inserting those not stored yet: a new sweep's points in
 /// order, and after the points it holds, those its refinement adds. A point is found by its
-/// axes, bit for bit, so a resumed sweep listing only its grid finds the grid's rows, and the
-/// points refinement added stay (refused if the definition no longer has `refine`).
+/// axes, bit for bit (the other axes' values read out of its stored configuration), so a
+/// resumed sweep listing only its grid finds the grid's rows, and the points refinement added
+/// stay (refused if the definition no longer has `refine`).
 fn point_ids(tx: &rusqlite::Connection, sweep_id: i64, sweep: &NewSweep) -> Result<Vec<i64>> {
-    type Key = (u64, u64, u32, u64);
-    let key = |a: f64, b: f64, l: u32, s: f64| (a.to_bits(), b.to_bits(), l, s.to_bits());
-    let mut stored: std::collections::HashMap<Key, i64> = std::collections::HashMap::new();
+    let names: Vec<&str> = sweep.points.first().map_or(Vec::new(), |p| {
+        p.others.0.iter().map(|(n, _)| n.as_str()).collect()
+    });
+    let key = |a: f64, b: f64, l: u32, s: f64, others: &Others| {
+        Axes {
+            alpha: a,
+            beta: b,
+            L: l,
+            sigma: s,
+            others: others.clone(),
+        }
+        .key()
+    };
+    let mut stored: std::collections::HashMap<PointKey, i64> = std::collections::HashMap::new();
     let mut next = 0i64;
     {
-        let mut q =
-            tx.prepare("SELECT id, idx, alpha, beta, L, sigma FROM points WHERE sweep_id = ?1")?;
+        let mut q = tx.prepare(
+            "SELECT id, idx, alpha, beta, L, sigma, params FROM points WHERE sweep_id = ?1",
+        )?;
         let rows = q.query_map([sweep_id], |r| {
+            let others = if names.is_empty() {
+                Others::default()
+            } else {
+                point_others(&r.get::<_, String>(6)?, &names)
+            };
             Ok((
                 r.get::<_, i64>(0)?,
                 r.get::<_, i64>(1)?,
-                key(r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?),
+                key(r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?, &others),
             ))
         })?;
         for row in rows {
@@ -197,7 +218,7 @@ fn point_ids(tx: &rusqlite::Connection, sweep_id: i64, sweep: &NewSweep) -> Resu
     )?;
     let mut ids = Vec::with_capacity(sweep.points.len());
     for pt in &sweep.points {
-        let k = key(pt.alpha, pt.beta, pt.spacing, pt.sigma);
+        let k = key(pt.alpha, pt.beta, pt.spacing, pt.sigma, &pt.others);
         let id = match stored.get(&k) {
             Some(&id) => id,
             None => {

@@ -1,6 +1,6 @@
 //! The finished replicates of a sweep, read for the statistics (`cellsweep_stats`).
 
-use cellsweep_stats::{End, Replicate};
+use cellsweep_stats::{End, Others, Replicate};
 use rusqlite::params;
 
 use crate::database::Store;
@@ -9,10 +9,31 @@ use crate::error::Result;
 
 impl Store {
     /// Every finished replicate of a sweep under `version`, in grid and replicate order.
-    pub fn replicates(&self, sweep_id: i64, version: &str) -> Result<Vec<Replicate>> {
+    /// `others_of` reads a point's other axes (its sweep's, beyond the paper's four) out of
+    /// the point's configuration JSON; it is called once per point.
+    pub fn replicates(
+        &self,
+        sweep_id: i64,
+        version: &str,
+        others_of: &dyn Fn(&str) -> Others,
+    ) -> Result<Vec<Replicate>> {
+        let mut points = self
+            .conn
+            .prepare("SELECT idx, params FROM points WHERE sweep_id = ?1 ORDER BY idx")?;
+        let mut others: Vec<Others> = Vec::new();
+        for row in points.query_map([sweep_id], |r| {
+            Ok((r.get::<_, i64>(0)?, r.get::<_, String>(1)?))
+        })? {
+            let (idx, config) = row?;
+            let idx = idx as usize;
+            if others.len() <= idx {
+                others.resize(idx + 1, Others::default());
+            }
+            others[idx] = others_of(&config);
+        }
         let mut q = self.conn.prepare(
             "SELECT p.alpha, p.beta, p.L, p.sigma, j.replicate, j.seed, pr.seed,
-                    r.verdict, r.outcome, r.decision_time
+                    r.verdict, r.outcome, r.decision_time, p.idx
              FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
              JOIN preps pr ON pr.id = j.prep_id
              WHERE p.sweep_id = ?1 AND r.solver_version = ?2
@@ -27,11 +48,12 @@ impl Store {
                     r.get::<_, Option<String>>(8)?,
                     r.get(9)?,
                 ),
+                r.get::<_, i64>(10)?,
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let ((alpha, beta, l, sigma, replicate), (seed, prep_seed), (verdict, outcome, t)) =
+            let ((alpha, beta, l, sigma, replicate), (seed, prep_seed), (verdict, outcome, t), idx) =
                 row?;
             // The schema's CHECKs admit nothing else.
             let Some(end) = End::of(&verdict, outcome.as_deref()) else {
@@ -42,6 +64,8 @@ impl Store {
                 beta,
                 L: l,
                 sigma,
+                others: others.get(idx as usize).cloned().unwrap_or_default(),
+                point: idx as u32,
                 replicate,
                 seed: seed_from_sql(seed),
                 prep_seed: seed_from_sql(prep_seed),

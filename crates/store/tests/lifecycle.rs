@@ -33,6 +33,7 @@ fn sweep_of(spec: &str, version: &str, replicates: u32) -> NewSweep {
             beta: 10.0,
             spacing: 90,
             sigma: 5.0,
+            others: Default::default(),
             config: "{}".into(),
             jobs: (0..replicates)
                 .map(|r| NewJob {

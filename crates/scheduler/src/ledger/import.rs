@@ -25,10 +25,11 @@ impl Ledger {
     /// classifier, solver version, and the prep's verdict and field hash (so the prep must be
     /// computed).
     pub fn check_row(&self, store: &Store, row: &ExportRow) -> Result<RowCheck, RunError> {
-        let at = format!(
-            "alpha = {}, beta = {}, L = {}, sigma = {}, replicate {}",
-            row.alpha, row.beta, row.L, row.sigma, row.replicate
-        );
+        let axes = match self.sweep.axes_of_row(row) {
+            Ok(axes) => axes,
+            Err(why) => return Ok(RowCheck::Refused(why)),
+        };
+        let at = format!("{axes}, replicate {}", row.replicate);
         let refuse = |why: String| Ok(RowCheck::Refused(format!("{at}: {why}")));
         if row.sweep != self.sweep.name {
             return refuse(format!(
@@ -42,8 +43,15 @@ impl Ledger {
                 row.solver_version, self.version
             ));
         }
-        let axes = (row.alpha, row.beta, row.L, row.sigma);
-        let Some(job_id) = store.job_at(self.sweep_id, &self.version, axes, row.replicate)? else {
+        let others_of = |c: &str| self.sweep.others_of_config(c);
+        let job = store.job_at(
+            self.sweep_id,
+            &self.version,
+            &axes,
+            row.replicate,
+            &others_of,
+        )?;
+        let Some(job_id) = job else {
             return refuse("no such job in the sweep".into());
         };
         let Some(job) = store.job_identity(job_id)? else {

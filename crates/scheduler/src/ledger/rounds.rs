@@ -7,39 +7,37 @@ use std::collections::HashSet;
 use cellsweep_solver::Params;
 use cellsweep_stats::adaptive::kinds;
 use cellsweep_stats::refine::{plan_round, ColumnNeed};
-use cellsweep_stats::{assess, Assessment, Counts, PointEnds};
+use cellsweep_stats::{assess, Assessment, Axes, ColumnKey, Counts, PointEnds};
 use cellsweep_store::{PointJobs, Store};
 
 use super::Ledger;
 use crate::error::RunError;
 use crate::plan::plan_targets;
-use crate::sweep::Axes;
-
-/// A column's key: (alpha, L, sigma), bit for bit.
-type ColumnKey = (u64, u32, u64);
-
-fn column_of(&(alpha, _, l, sigma): &Axes) -> ColumnKey {
-    (alpha.to_bits(), l, sigma.to_bits())
-}
 
 impl Ledger {
+    /// The axes of every point of the sweep by index, as the store holds them.
+    pub fn point_axes(&self, store: &Store) -> Result<Vec<Axes>, RunError> {
+        Ok(store.point_axes(self.sweep_id, &|c| self.sweep.others_of_config(c))?)
+    }
+
     /// Every point of the sweep by index, as the store holds them: the grid's, then those its
     /// refinement added.
     pub fn points(&self, store: &Store) -> Result<Vec<Params>, RunError> {
-        Ok(store
-            .point_axes(self.sweep_id)?
-            .into_iter()
+        Ok(self
+            .point_axes(store)?
+            .iter()
             .map(|a| self.sweep.point(a))
             .collect())
     }
 
     /// Every point's finished replicates by index, in point order.
     pub fn point_ends(&self, store: &Store) -> Result<Vec<PointEnds>, RunError> {
-        let (mut ends, index) = PointEnds::grid(store.point_axes(self.sweep_id)?);
-        for r in store.replicates(self.sweep_id, &self.version)? {
+        let (mut ends, _) = PointEnds::grid(self.point_axes(store)?);
+        let no_others = |_: &str| Default::default();
+        for r in store.replicates(self.sweep_id, &self.version, &no_others)? {
             // (One result per job, and a job per point and replicate: never twice.)
-            if let Some(i) = index.of(r.alpha, r.beta, r.L, r.sigma) {
-                ends[i].record(r.replicate, r.end);
+            if let Some(point) = ends.get_mut(r.point as usize) {
+                point.record(r.replicate, r.end);
             }
         }
         Ok(ends)
@@ -66,7 +64,7 @@ impl Ledger {
         if self.sweep.adaptive.is_none() && self.sweep.refine.is_none() {
             return Ok(0);
         }
-        let axes = store.point_axes(self.sweep_id)?;
+        let axes = self.point_axes(store)?;
         let ends = self.point_ends(store)?;
         let mut have = store.jobs_per_point(self.sweep_id, &self.version)?;
         have.resize(axes.len(), PointJobs::default());
@@ -91,7 +89,7 @@ impl Ledger {
         let points: Vec<Params> = axes
             .iter()
             .chain(&added)
-            .map(|&a| self.sweep.point(a))
+            .map(|a| self.sweep.point(a))
             .collect();
         // The sweep is registered already: the source it was read from stays as stored.
         let target = |i: usize| targets.get(i).copied().unwrap_or(first);
@@ -114,29 +112,34 @@ impl Ledger {
         };
         let busy: HashSet<ColumnKey> = (0..axes.len())
             .filter(|&i| have[i].open > 0 || targets[i] > have[i].jobs)
-            .map(|i| column_of(&axes[i]))
+            .map(|i| axes[i].column())
             .collect();
         let counts: Vec<Counts> = ends
             .iter()
             .zip(axes)
-            .filter(|(_, a)| !busy.contains(&column_of(a)))
+            .filter(|(_, a)| !busy.contains(&a.column()))
             .map(|(e, _)| e.counts(u32::MAX))
             .collect();
         let grid_beta = &self.sweep.grid.beta;
-        let added_to = |l: u32, sigma: f64, alpha: f64| {
-            let key = (alpha.to_bits(), l, sigma.to_bits());
+        let added_to = |key: &ColumnKey| {
             axes.iter()
-                .filter(|a| column_of(a) == key && !grid_beta.contains(&a.1))
+                .filter(|a| a.column() == *key && !grid_beta.contains(&a.beta))
                 .count() as u32
         };
         let mut out = Vec::new();
         for round in plan_round(&counts, &rule, &added_to) {
             if let ColumnNeed::Add(values) = round.need {
                 for beta in values {
-                    let a = (round.alpha, beta, round.L, round.sigma);
+                    let a = Axes {
+                        alpha: round.alpha,
+                        beta,
+                        L: round.L,
+                        sigma: round.sigma,
+                        others: round.others.clone(),
+                    };
                     // (The values lie inside a crossing's interval, itself inside the
                     // column's sampled betas, on the step lattice: always admitted.)
-                    if self.sweep.refused_addition(a).is_none() {
+                    if self.sweep.refused_addition(&a).is_none() {
                         out.push(a);
                     }
                 }

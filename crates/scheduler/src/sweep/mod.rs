@@ -11,6 +11,7 @@
 //! beta  = { from = 10, to = 50, step = 4 }
 //! L     = [90]
 //! sigma = [5]
+//! E0    = [1000, 3000]                     # optional: any other SPEC parameter as an axis
 //! [params]                                 # optional: any other SPEC parameter
 //! tau = 100
 //! [protocol]                               # optional: lattices, stage durations (tau0)
@@ -36,16 +37,18 @@
 
 use std::path::Path;
 
-use cellsweep_solver::{ClassifierSettings, Geometry, Params, Protocol};
+use cellsweep_solver::{ClassifierSettings, Params, Protocol};
 use cellsweep_stats::{AdaptiveRule, RefineRule};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{SweepError, ValueError};
-use crate::grid;
-use crate::sweep_file::{self, AdaptiveFile, AxisFile, ProtocolFile, RunFile, Whole};
+use crate::sweep_file::{self, AdaptiveFile, ProtocolFile, RunFile, Whole};
 
+mod layout;
+mod others;
 mod points;
-pub use points::Axes;
+pub use cellsweep_stats::Axes;
+pub use others::{proportional_side, OtherAxis};
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -65,7 +68,7 @@ impl Default for RunSettings {
     }
 }
 
-/// The four grid axes of the paper.
+/// The grid: the paper's four axes, and any other parameter the sweep varies.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct Grid {
@@ -73,6 +76,10 @@ pub struct Grid {
     pub beta: Vec<f64>,
     pub L: Vec<u32>,
     pub sigma: Vec<f64>,
+    /// Other axes (SPEC names, in SPEC order): none in the paper's sweeps, whose definitions
+    /// are then exactly as before there were any.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub others: Vec<OtherAxis>,
 }
 
 /// A parsed, validated sweep.
@@ -87,6 +94,10 @@ pub struct Sweep {
     pub params: Params,
     pub protocol: Protocol,
     pub classifier: ClassifierSettings,
+    /// Each point's lattices keep the paper's proportions at its R0 ([`Sweep::protocol_for`]):
+    /// set where R0 is not the paper's 40 or varies, and the file gives no lattice.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub lattices_follow_r0: bool,
     /// Replicates in rounds until each point is settled (`replicates` is then the budget).
     /// It may change under the same name: it decides how many replicates run, never what one
     /// replicate gives.
@@ -153,37 +164,6 @@ impl Ctx<'_> {
     fn given<T>(&self, v: Option<T>, key: &str) -> Result<T, SweepError> {
         v.ok_or_else(|| self.err(key, "missing"))
     }
-}
-
-/// The fiber spacings of `grid.L`: whole, non-negative, within the lattice limit, and even on
-/// two fibers.
-fn spacings(values: &[f64], geometry: Geometry, cx: &Ctx) -> Result<Vec<u32>, SweepError> {
-    let mut spacing = Vec::new();
-    for &l in values {
-        if l > MAX_SITES as f64 {
-            return Err(cx.err("grid.L", format!("{l} is more than {MAX_SITES} sites")));
-        }
-        if l < 0.0 {
-            return Err(cx.err(
-                "grid.L",
-                format!("{l} is negative: a fiber spacing is a distance, in lattice sites"),
-            ));
-        }
-        if l.fract() != 0.0 {
-            return Err(cx.err(
-                "grid.L",
-                format!("{l} is not a whole number of lattice sites"),
-            ));
-        }
-        if geometry == Geometry::Two && !(l as u64).is_multiple_of(2) {
-            return Err(cx.err(
-                "grid.L",
-                format!("{l} is odd (fibers sit at Ny/2 -+ L/2: L must be even)"),
-            ));
-        }
-        spacing.push(l as u32);
-    }
-    Ok(spacing)
 }
 
 /// `[adaptive]`, its budget `replicates` unless it sets its own (`given`: the file set
@@ -255,8 +235,9 @@ fn run_settings(r: &RunFile, cx: &Ctx) -> Result<RunSettings, SweepError> {
 fn check_size(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
     let g = &sweep.grid;
     let points = [g.alpha.len(), g.beta.len(), g.L.len(), g.sigma.len()]
-        .iter()
-        .fold(1u64, |n, &k| n.saturating_mul(k as u64));
+        .into_iter()
+        .chain(g.others.iter().map(|a| a.values.len()))
+        .fold(1u64, |n, k| n.saturating_mul(k as u64));
     if points > MAX_POINTS {
         return Err(cx.err("grid", format!("{points} points is more than {MAX_POINTS}")));
     }
@@ -285,7 +266,7 @@ fn check_size(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
 fn check_points(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
     // Every point must be a valid model: the first invalid one names the key to fix.
     for point in sweep.points() {
-        sweep.protocol.validate(&point).map_err(|e| {
+        sweep.protocol_for(&point).validate(&point).map_err(|e| {
             let mut name = e.parameter();
             if matches!(e, cellsweep_solver::ParamError::Unstable { .. }) {
                 // Blame the grid's alpha if its smallest value would be stable, else dt.
@@ -303,23 +284,18 @@ fn check_points(sweep: &Sweep, cx: &Ctx) -> Result<(), SweepError> {
                     name = "alpha";
                 }
             }
-            let key = if GRID_KEYS.contains(&name) {
-                format!("grid.{name}")
-            } else if name.contains("lattice")
-                || name.ends_with("_time")
-                || name.ends_with("_interval")
-            {
-                format!("protocol.{name}")
-            } else {
-                format!("params.{name}")
-            };
-            cx.err(
-                key,
-                format!(
-                    "at alpha = {}, beta = {}, L = {}, sigma = {}: {e}",
-                    point.alpha, point.beta, point.L, point.sigma
-                ),
-            )
+            let key =
+                if GRID_KEYS.contains(&name) || sweep.grid.others.iter().any(|a| a.name == name) {
+                    format!("grid.{name}")
+                } else if name.contains("lattice")
+                    || name.ends_with("_time")
+                    || name.ends_with("_interval")
+                {
+                    format!("protocol.{name}")
+                } else {
+                    format!("params.{name}")
+                };
+            cx.err(key, format!("at {}: {e}", sweep.axes_of(&point)))
         })?;
     }
     Ok(())
@@ -420,28 +396,21 @@ impl Sweep {
             ));
         }
 
+        let in_params: Vec<String> = f.params.iter().flat_map(|t| t.keys().cloned()).collect();
         let mut params = match f.params {
             Some(t) => sweep_file::params(t, file)?,
             None => Params::default(),
         };
         params.geometry = f.geometry.unwrap_or(params.geometry);
 
-        let g = cx.given(f.grid, "grid")?;
-        let axis = |spec: Option<AxisFile>, key: &str| -> Result<Vec<f64>, SweepError> {
-            let full = format!("grid.{key}");
-            let spec = cx.given(spec, &full)?;
-            grid::axis(&spec)
-                .map(|a| a.values)
-                .map_err(|p| cx.err(&full, p.to_string()))
-        };
-        let spacing = spacings(&axis(g.L, "L")?, params.geometry, &cx)?;
-        let grid = Grid {
-            alpha: axis(g.alpha, "alpha")?,
-            beta: axis(g.beta, "beta")?,
-            L: spacing,
-            sigma: axis(g.sigma, "sigma")?,
-        };
-
+        let grid = layout::grid(
+            cx.given(f.grid, "grid")?,
+            &in_params,
+            f.geometry.is_some(),
+            &params,
+            &cx,
+        )?;
+        let lattices_follow_r0 = others::lattices_follow_r0(&params, &grid, f.protocol.as_ref());
         let protocol = match f.protocol {
             Some(p) => protocol(p, &cx)?,
             None => Protocol::default(),
@@ -470,6 +439,7 @@ impl Sweep {
             params,
             protocol,
             classifier,
+            lattices_follow_r0,
             adaptive,
             refine,
             run,

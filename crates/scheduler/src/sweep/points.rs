@@ -9,27 +9,29 @@
 use std::collections::{HashMap, HashSet};
 
 use cellsweep_solver::Params;
+use cellsweep_stats::Axes;
 
 use super::Sweep;
 
-/// One point's axes: (alpha, beta, L, sigma).
-pub type Axes = (f64, f64, u32, f64);
-
 impl Sweep {
-    /// Parameters of every grid point, ordered by L, sigma, alpha, beta.
+    /// Parameters of every grid point, ordered by the other axes (the first outermost), then
+    /// L, sigma, alpha, beta.
     pub fn points(&self) -> Vec<Params> {
         let mut out = Vec::new();
-        for &l in &self.grid.L {
-            for &sigma in &self.grid.sigma {
-                for &alpha in &self.grid.alpha {
-                    for &beta in &self.grid.beta {
-                        out.push(Params {
-                            alpha,
-                            beta,
-                            L: l,
-                            sigma,
-                            ..self.params.clone()
-                        });
+        for others in self.other_values() {
+            let base = self.with_others(&others);
+            for &l in &self.grid.L {
+                for &sigma in &self.grid.sigma {
+                    for &alpha in &self.grid.alpha {
+                        for &beta in &self.grid.beta {
+                            out.push(Params {
+                                alpha,
+                                beta,
+                                L: l,
+                                sigma,
+                                ..base.clone()
+                            });
+                        }
                     }
                 }
             }
@@ -37,38 +39,60 @@ impl Sweep {
         out
     }
 
-    /// The parameters of the point (alpha, beta, L, sigma) of this sweep (a grid point or an
-    /// added one): its axes over the sweep's fixed parameters.
-    #[allow(non_snake_case)]
-    pub fn point(&self, (alpha, beta, L, sigma): Axes) -> Params {
+    /// The parameters of the point at `axes` of this sweep (a grid point or an added one):
+    /// its axes over the sweep's fixed parameters.
+    pub fn point(&self, axes: &Axes) -> Params {
         Params {
-            alpha,
-            beta,
-            L,
-            sigma,
-            ..self.params.clone()
+            alpha: axes.alpha,
+            beta: axes.beta,
+            L: axes.L,
+            sigma: axes.sigma,
+            ..self.with_others(&axes.others)
         }
     }
 
     /// Most points refinement can add: every column's budget.
     pub fn max_added_points(&self) -> u64 {
         let g = &self.grid;
+        let others: u64 = g.others.iter().map(|a| a.values.len() as u64).product();
         self.refine.map_or(0, |r| {
-            (g.alpha.len() * g.L.len() * g.sigma.len()) as u64 * r.max_new_per_column as u64
+            (g.alpha.len() * g.L.len() * g.sigma.len()) as u64
+                * others
+                * r.max_new_per_column as u64
         })
     }
 
-    /// Why the point `axes`, not on the grid, cannot be a point this sweep's refinement added
-    /// (None: it can be). It must lie in a column of the grid, with a beta inside the grid's
-    /// range, on the step lattice, and not on the grid.
-    pub fn refused_addition(&self, (alpha, beta, l, sigma): Axes) -> Option<String> {
+    /// Why the point at `axes`, not on the grid, cannot be a point this sweep's refinement
+    /// added (None: it can be). It must lie in a column of the grid, with a beta inside the
+    /// grid's range, on the step lattice, and not on the grid.
+    pub fn refused_addition(&self, axes: &Axes) -> Option<String> {
         let g = &self.grid;
         let Some(rule) = self.refine else {
             return Some("the sweep has no [refine] to add it".into());
         };
-        if !(g.alpha.contains(&alpha) && g.L.contains(&l) && g.sigma.contains(&sigma)) {
-            return Some("not a column of the grid".into());
+        let names: Vec<&str> = g.others.iter().map(|a| a.name.as_str()).collect();
+        let others_on_grid = axes.others.0.len() == g.others.len()
+            && axes
+                .others
+                .0
+                .iter()
+                .zip(&g.others)
+                .all(|((n, v), a)| *n == a.name && a.values.contains(v));
+        if !(g.alpha.contains(&axes.alpha)
+            && g.L.contains(&axes.L)
+            && g.sigma.contains(&axes.sigma)
+            && others_on_grid)
+        {
+            return Some(format!(
+                "not a column of the grid{}",
+                if names.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (with {})", names.join(", "))
+                }
+            ));
         }
+        let beta = axes.beta;
         let (lo, hi) = g
             .beta
             .iter()
@@ -88,45 +112,37 @@ impl Sweep {
         None
     }
 
-    /// Every point of the sweep that `found` names (axes in order, repeats allowed): the
-    /// grid's points in grid order, then the added points among `found` in their first order.
-    /// An added point this sweep could not hold, or more added to one column than its budget,
-    /// is an error naming the point.
+    /// Every point of the sweep that `found` names (repeats allowed): the grid's points in
+    /// grid order, then the added points among `found` in their first order. An added point
+    /// this sweep could not hold, or more added to one column than its budget, is an error
+    /// naming the point.
     pub fn points_with(
         &self,
         found: impl IntoIterator<Item = Axes>,
     ) -> Result<Vec<Params>, String> {
         let mut points = self.points();
-        let key = |p: &Params| (p.alpha.to_bits(), p.beta.to_bits(), p.L, p.sigma.to_bits());
-        let mut seen: HashSet<_> = points.iter().map(key).collect();
-        let mut per_column: HashMap<(u64, u32, u64), u32> = Default::default();
+        let mut seen: HashSet<_> = points.iter().map(|p| self.axes_of(p).key()).collect();
+        let mut per_column: HashMap<_, u32> = Default::default();
         for axes in found {
-            let p = self.point(axes);
-            if !seen.insert(key(&p)) {
+            if !seen.insert(axes.key()) {
                 continue;
             }
-            let at = format!(
-                "alpha = {}, beta = {}, L = {}, sigma = {}",
-                p.alpha, p.beta, p.L, p.sigma
-            );
-            if let Some(why) = self.refused_addition(axes) {
+            if let Some(why) = self.refused_addition(&axes) {
                 return Err(format!(
-                    "{at} is not a point of sweep {:?}: {why}",
+                    "{axes} is not a point of sweep {:?}: {why}",
                     self.name
                 ));
             }
-            let n = per_column
-                .entry((p.alpha.to_bits(), p.L, p.sigma.to_bits()))
-                .or_default();
+            let n = per_column.entry(axes.column()).or_default();
             *n += 1;
             let budget = self.refine.map_or(0, |r| r.max_new_per_column);
             if *n > budget {
                 return Err(format!(
-                    "{at}: more added values in its column than the sweep's max_new_per_column = \
+                    "{axes}: more added values in its column than the sweep's max_new_per_column = \
                      {budget}"
                 ));
             }
-            points.push(p);
+            points.push(self.point(&axes));
         }
         Ok(points)
     }

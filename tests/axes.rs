@@ -1,0 +1,180 @@
+//! Any SPEC parameter as a grid axis (SPEC section 2): a sweep with `E0 = [1000, 3000]` in
+//! `[grid]` runs, resumes after a kill, exports and imports, and its E0 = 1000 points give the
+//! very preps and outcomes of a sweep with `E0 = 1000` fixed in `[params]` and the same seed.
+//! (Both engines: `tests/slurm.rs` runs the same sweep through Slurm.)
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{cellsweep_in, query, try_query, workdir};
+
+/// The real model on small lattices at 2 alphas, with `grid` and `params` lines added.
+pub fn write(dir: &Path, name: &str, grid: &str, params: &str, collide_time: f64) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"{name}\"\nseed = 5\nreplicates = 3\n[grid]\nalpha = [0.1, 0.12]\nbeta = [10]\n\
+             L = [48]\nsigma = [5]\n{grid}\n[params]\nR0 = 24\n{params}\n[protocol]\n\
+             single_lattice = [96, 96]\nrelax_time = 5\nfree_time = 10\ncollide_time = {collide_time}\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// Every exported row's columns but the sweep's name and the wall times, by the row's point
+/// (its parameters included) and replicate.
+fn rows(dir: &Path, db: &str, out: &str) -> Vec<Vec<String>> {
+    let o = cellsweep_in(dir, &["export", "--db", db, "--out", out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(dir.join(out)).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let skip = ["sweep", "wall_s", "prep_wall_s"];
+    let mut rows: Vec<Vec<String>> = lines
+        .map(|l| {
+            // (No field holds a comma but the quoted JSON ones, kept whole, their quotes
+            // dropped: `{"E0":1000.0}` reads `{E0:1000.0}`.)
+            let mut cells = Vec::new();
+            let mut cell = String::new();
+            let mut quoted = false;
+            for ch in l.chars() {
+                match ch {
+                    '"' => quoted = !quoted,
+                    ',' if !quoted => cells.push(std::mem::take(&mut cell)),
+                    c => cell.push(c),
+                }
+            }
+            cells.push(cell);
+            header
+                .iter()
+                .zip(cells)
+                .filter(|(h, _)| !skip.contains(h))
+                .map(|(h, c)| format!("{h}={c}"))
+                .collect()
+        })
+        .collect();
+    rows.sort();
+    rows
+}
+
+fn run(dir: &Path, sweep: &Path, db: &str) -> String {
+    let o = cellsweep_in(
+        dir,
+        &["run", sweep.to_str().unwrap(), "--db", db, "--workers", "2"],
+    );
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        o.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    text
+}
+
+#[test]
+fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
+    let dir = workdir("axes", "e0");
+    let grid = write(&dir, "e0-grid", "E0 = [1000, 3000]", "", 20.0);
+    let fixed = write(&dir, "e0-fixed", "", "E0 = 1000", 20.0);
+
+    // Killed once a result is in, then resumed: every job exactly once.
+    let db = dir.join("grid.sqlite");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(&dir)
+        .args([
+            "run",
+            grid.to_str().unwrap(),
+            "--db",
+            "grid.sqlite",
+            "--workers",
+            "2",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while try_query(&db, "SELECT COUNT(*) FROM results").unwrap_or(0) < 1 {
+        assert!(start.elapsed() < Duration::from_secs(300), "no result came");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done = query(&db, "SELECT COUNT(*) FROM results");
+    assert!(
+        done < 12,
+        "killed too late to test a resume ({done} of 12 done)"
+    );
+    run(&dir, &grid, "grid.sqlite");
+    assert_eq!(query(&db, "SELECT COUNT(*) FROM points"), 4);
+    assert_eq!(
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        12
+    );
+    assert_eq!(query(&db, "SELECT COUNT(DISTINCT job_id) FROM results"), 12);
+    assert_eq!(
+        query(
+            &db,
+            "SELECT COUNT(*) FROM points WHERE params LIKE '%\"E0\":3000.0%'"
+        ),
+        2
+    );
+
+    // The E0 = 1000 points are the fixed sweep's, replicate by replicate: seeds, prep hashes,
+    // outcomes, times and steps.
+    run(&dir, &fixed, "fixed.sqlite");
+    let grid_rows = rows(&dir, "grid.sqlite", "grid.csv");
+    assert_eq!(grid_rows.len(), 12);
+    let at_1000: Vec<Vec<String>> = grid_rows
+        .iter()
+        .filter(|r| {
+            r.iter()
+                .any(|c| c.starts_with("params=") && c.contains("E0:1000.0"))
+        })
+        .cloned()
+        .collect();
+    assert_eq!(at_1000.len(), 6, "{grid_rows:?}");
+    assert_eq!(at_1000, rows(&dir, "fixed.sqlite", "fixed.csv"));
+    let at_3000: Vec<&Vec<String>> = grid_rows.iter().filter(|r| !at_1000.contains(r)).collect();
+    let prep = |r: &Vec<String>| r.iter().find(|c| c.starts_with("prep_hash=")).cloned();
+    assert!(
+        at_3000
+            .iter()
+            .all(|r| !at_1000.iter().any(|s| prep(s) == prep(r))),
+        "another E0 is another prepped cell"
+    );
+
+    // The export imports into a fresh store, whole, and reads back the same table.
+    let o = cellsweep_in(&dir, &["import", "--db", "back.sqlite", "grid.csv"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        query(&dir.join("back.sqlite"), "SELECT COUNT(*) FROM results"),
+        12
+    );
+    assert_eq!(rows(&dir, "back.sqlite", "back.csv"), grid_rows);
+    let table = |args: &[&str]| {
+        let o = cellsweep_in(&dir, args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    let from_store = table(&["table", "--db", "grid.sqlite", "--format", "json"]);
+    assert_eq!(
+        from_store,
+        table(&["table", "--data", "grid.csv", "--format", "json"])
+    );
+    assert_eq!(
+        from_store,
+        table(&["table", "--db", "back.sqlite", "--format", "json"])
+    );
+    assert_eq!(from_store.matches("\"E0\"").count(), 4, "{from_store}");
+    let text = table(&["table", "--db", "grid.sqlite"]);
+    assert!(
+        text.contains("E0 = 1000") && text.contains("E0 = 3000"),
+        "{text}"
+    );
+}

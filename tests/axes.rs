@@ -157,6 +157,15 @@ fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
         12
     );
     assert_eq!(rows(&dir, "back.sqlite", "back.csv"), grid_rows);
+    // Again into the store that holds it: every row is already there (each matched to its own
+    // E0's job, not to the other E0's row at the same alpha, beta and replicate).
+    let o = cellsweep_in(&dir, &["import", "--db", "back.sqlite", "grid.csv"]);
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        said.contains("imported 0 results") && said.contains("(12 already"),
+        "{said}"
+    );
     let table = |args: &[&str]| {
         let o = cellsweep_in(&dir, args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -8,10 +8,18 @@ use cellsweep_solver::prep::{initial_circle, kick};
 use cellsweep_solver::{Cell, Fibers, Lattice, SOLVER_VERSION};
 use cellsweep_store::{MeasuredCost, Store};
 
-/// Seconds per single-cell step on the sweep's lattice, from a short measurement here.
-fn single_step_s(sweep: &Sweep) -> f64 {
-    let params = &sweep.points()[0];
-    let [nx, ny] = sweep.protocol.single_lattice;
+/// Seconds per single-cell step on the first point's lattice, from a short measurement here,
+/// and the mean over the points of their lattice's sites over the first's (lattices that
+/// follow R0 differ from point to point).
+fn single_step_s(sweep: &Sweep) -> (f64, f64) {
+    let points = sweep.points();
+    let params = &points[0];
+    let sites = |p| {
+        let [nx, ny] = sweep.protocol_for(p).single_lattice;
+        (nx * ny) as f64
+    };
+    let scale = points.iter().map(|p| sites(p) / sites(params)).sum::<f64>() / points.len() as f64;
+    let [nx, ny] = sweep.protocol_for(params).single_lattice;
     let lat = Lattice::new(nx, ny);
     let fibers = Fibers::new(params, ny);
     let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
@@ -24,7 +32,7 @@ fn single_step_s(sweep: &Sweep) -> f64 {
         }
         best = best.min(t.elapsed().as_secs_f64() / 20.0);
     }
-    best
+    (best, scale)
 }
 
 fn hours(s: f64) -> String {
@@ -135,7 +143,7 @@ fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Opti
 /// has both, else from a single-cell step timed here (a collision at its longest).
 fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, String) {
     let steps = |t: f64| (t / sweep.params.dt).round();
-    let p = &sweep.protocol;
+    let p = &sweep.protocol_for(&sweep.points()[0]);
     match measured {
         Some(m) if m.prep_s.is_some() && m.collision_s.is_some() => (
             m.prep_s.unwrap_or(0.0),
@@ -146,7 +154,8 @@ fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, Strin
             ),
         ),
         _ => {
-            let step = single_step_s(sweep);
+            let (step, scale) = single_step_s(sweep);
+            let step = step * scale;
             let sites = |l: [usize; 2]| (l[0] * l[1]) as f64;
             let ratio = 2.0 * sites(p.pair_lattice) / sites(p.single_lattice);
             (

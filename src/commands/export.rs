@@ -6,7 +6,7 @@ use cellsweep_scheduler::wire::PrepPayload;
 use cellsweep_scheduler::{plan_targets, Ledger, RowCheck, Settlement, StoreLock, Sweep};
 use cellsweep_solver::{prepare, Config, Silent};
 use cellsweep_solver::{Params, SOLVER_VERSION};
-use cellsweep_stats::Axes;
+use cellsweep_stats::{Axes, PointKey};
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
 use cellsweep_store::JobState;
 use cellsweep_store::Store;
@@ -191,11 +191,10 @@ fn import_into(
     let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;
     compute_preps(store, &ledger, reg.sweep_id, rows)?;
     let defaults = serde_json::to_value(Params::default())?;
-    let stored: HashMap<(u64, u64, u32, u64, u32), ExportRow> = store
-        .export_rows(reg.sweep_id, SOLVER_VERSION, &defaults)?
-        .into_iter()
-        .map(|r| (job_key(&r), r))
-        .collect();
+    let mut stored: HashMap<JobKey, ExportRow> = HashMap::new();
+    for r in store.export_rows(reg.sweep_id, SOLVER_VERSION, &defaults)? {
+        stored.insert(job_key(sweep, &r)?, r);
+    }
     let mut problems = Vec::new();
     let mut to_commit = Vec::new();
     let mut already = 0;
@@ -207,7 +206,7 @@ fn import_into(
                     to_commit.push((job, r));
                 }
             }
-            RowCheck::Already => match stored.get(&job_key(r)) {
+            RowCheck::Already => match stored.get(&job_key(sweep, r)?) {
                 Some(s) => {
                     let c = conflicts("the file's row and the store's", r, s);
                     if c.is_empty() {
@@ -230,15 +229,13 @@ fn import_into(
     Ok((new, already))
 }
 
-/// A row's job: its point's axes (as bits) and replicate.
-fn job_key(r: &ExportRow) -> (u64, u64, u32, u64, u32) {
-    (
-        r.alpha.to_bits(),
-        r.beta.to_bits(),
-        r.L,
-        r.sigma.to_bits(),
-        r.replicate,
-    )
+/// A job: its point's axes (as bits, every other axis included) and replicate.
+type JobKey = (PointKey, u32);
+
+/// A row's job.
+fn job_key(sweep: &Sweep, r: &ExportRow) -> anyhow::Result<JobKey> {
+    let axes = sweep.axes_of_row(r).map_err(|why| anyhow::anyhow!(why))?;
+    Ok((axes.key(), r.replicate))
 }
 
 /// The preps the rows need, computed here (in parallel) so that each row's prep hash can be

@@ -144,3 +144,63 @@ fn the_seeds_of_the_paper_sweep_are_pinned() {
     assert_eq!(new.points[0].jobs[1].seed, 9416160944751426525);
     assert_eq!(new.preps[0].seed, 475611912845846853);
 }
+
+/// Every committed export (`data/paper/*.csv`) read with this build: its definition is the
+/// very text it was exported with (so it registers as the same sweep), and every row's prep
+/// and collision seeds are the ones this build plans for that point and replicate, so
+/// importing it changes no seed and runs no other trajectory.
+#[test]
+fn every_committed_export_keeps_its_definition_and_its_seeds() {
+    use cellsweep_scheduler::export_file::read_export;
+    use std::collections::HashMap;
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/paper");
+    let mut files = 0;
+    let mut rows_checked = 0;
+    for f in std::fs::read_dir(&data).unwrap() {
+        let path = f.unwrap().path();
+        if path.extension().is_none_or(|e| e != "csv") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let spec = text
+            .lines()
+            .nth(1)
+            .unwrap()
+            .strip_prefix("# spec ")
+            .unwrap();
+        let (sweep, rows) = read_export(&path).unwrap();
+        assert_eq!(sweep.canonical_json(), spec, "{}", path.display());
+        let axes: Vec<_> = rows.iter().map(|r| sweep.axes_of_row(r).unwrap()).collect();
+        let points = sweep.points_with(axes.iter().cloned()).unwrap();
+        let index: HashMap<_, usize> = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (sweep.axes_of(p).key(), i))
+            .collect();
+        let new =
+            cellsweep_scheduler::plan::plan_targets(&sweep, "x", &points, &|_| sweep.replicates);
+        assert_eq!(new.spec, spec);
+        for (r, a) in rows.iter().zip(&axes) {
+            let point = &new.points[index[&a.key()]];
+            let job = &point.jobs[r.replicate as usize];
+            assert_eq!(job.replicate, r.replicate);
+            assert_eq!(
+                job.seed,
+                r.collision_seed,
+                "{}: {a} #{}",
+                path.display(),
+                r.replicate
+            );
+            assert_eq!(
+                new.preps[job.prep].seed,
+                r.prep_seed,
+                "{}: {a}",
+                path.display()
+            );
+            rows_checked += 1;
+        }
+        files += 1;
+    }
+    assert!(files >= 8, "{files} exports");
+    assert!(rows_checked > 10_000, "{rows_checked} rows");
+}

@@ -238,4 +238,25 @@ fn plot_writes_svg_and_png_for_each_diagram() {
     assert!(svg.contains(">crit</tspan>") && svg.contains("fit: a = "));
     let png = std::fs::read(out_dir.join("phase-L90-sigma5.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // The collapse figure: each column's beta* at its alpha~/L~, near the line the counts were
+    // drawn from (0.6 x - 12), with the paper's line in the legend.
+    let collapse = std::fs::read_to_string(out_dir.join("collapse.svg")).unwrap();
+    assert!(out_dir.join("collapse.png").exists());
+    assert!(collapse.contains("paper: a = 0.6, b = -12"));
+    let tips: Vec<&str> = collapse.split("<title>").skip(1).collect();
+    assert!(tips.len() >= 4, "{collapse}");
+    for tip in tips {
+        let num = |key: &str| -> f64 {
+            let rest = &tip[tip.find(key).unwrap() + key.len()..];
+            let end = rest
+                .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+                .unwrap();
+            rest[..end].parse().unwrap()
+        };
+        let alpha = num("α = ");
+        let x = 2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * alpha / (90.0 / 40.0);
+        let star = num("β* = ");
+        assert!((star - (0.6 * x - 12.0)).abs() < 1.0, "{tip}");
+        assert!((num("α̃/L̃ = ") - x).abs() < 0.01, "{tip}");
+    }
 }

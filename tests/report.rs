@@ -139,6 +139,32 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
     assert!(!html.contains("<b>$(touch"), "an unescaped folder name");
     assert!(html.contains("d&#39;&lt;b&gt;$(touch x)&quot;"));
     assert!(!dir.join("x").exists());
+    // The collapse test: every shown diagram's columns at their alpha~/L~, a tooltip each.
+    assert!(html.contains("One line in α̃/L̃?"));
+    for (l, sigma) in [(90, 5), (80, 5), (70, 5), (90, 0), (80, 0), (70, 0)] {
+        let tip = format!("<title>R0 = 40, L = {l}, σ = {sigma}, α = ");
+        assert!(
+            html.contains(&tip),
+            "the collapse figure lacks L = {l}, sigma = {sigma}"
+        );
+    }
+    // Folders add up: a second --data brings its sweeps in beside the first's.
+    let extra = dir.join("extra");
+    std::fs::create_dir_all(&extra).unwrap();
+    let check =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/checks/check-breakup-wide-column.csv");
+    std::fs::copy(&check, extra.join("check-breakup-wide-column.csv")).unwrap();
+    let both = ok(&cellsweep(&[
+        "report",
+        "--data",
+        odd.to_str().unwrap(),
+        "--data",
+        extra.to_str().unwrap(),
+        "--out",
+        dir.join("both.html").to_str().unwrap(),
+    ]));
+    let files = std::fs::read_dir(&data).unwrap().count() + 1;
+    assert!(both.contains(&format!("({files} sweeps:")), "{both}");
     // What a reader needs: the claims with verdicts, the fit beside the paper's, the diagram
     // drawn inline, and where every number came from.
     for need in [

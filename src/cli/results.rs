@@ -157,9 +157,10 @@ pub struct ReportArgs {
     #[arg(long, value_name = "PATH")]
     pub db: Option<std::path::PathBuf>,
     /// A folder of `cellsweep export` files (every *.csv in it, e.g. data/paper): no store,
-    /// no recomputation.
+    /// no recomputation. Give it again to add folders (`--data data/paper --data
+    /// data/collapse`).
     #[arg(long, value_name = "DIR")]
-    pub data: Option<std::path::PathBuf>,
+    pub data: Vec<std::path::PathBuf>,
     /// The HTML file to write.
     #[arg(long, value_name = "FILE.html")]
     pub out: std::path::PathBuf,

@@ -6,8 +6,8 @@ use cellsweep_store::Store;
 use crate::cli::ReportArgs;
 
 pub fn run(args: ReportArgs) -> anyhow::Result<()> {
-    let results = match (&args.db, &args.data) {
-        (Some(db), _) => {
+    let results = match &args.db {
+        Some(db) => {
             let names = Store::open_read(db)?.sweep_names()?;
             if names.is_empty() {
                 bail!("no sweeps in {}", db.display());
@@ -17,22 +17,16 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
                 .map(|n| cellsweep_report::load::from_store(db, Some(n)))
                 .collect::<Result<Vec<_>, _>>()?
         }
-        (None, Some(dir)) => {
-            let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
-                .with_context(|| format!("cannot read the folder {}", dir.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "csv") && p.is_file())
-                .collect();
-            files.sort();
-            if files.is_empty() {
-                bail!("{}: no export files (*.csv) in this folder", dir.display());
+        None if args.data.is_empty() => bail!("report needs --db PATH or --data DIR"),
+        None => {
+            let mut results = Vec::new();
+            for dir in &args.data {
+                for f in export_files(dir)? {
+                    results.push(cellsweep_report::load::from_export(&f)?);
+                }
             }
-            files
-                .iter()
-                .map(|f| cellsweep_report::load::from_export(f))
-                .collect::<Result<Vec<_>, _>>()?
+            results
         }
-        (None, None) => bail!("report needs --db PATH or --data DIR"),
     };
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -56,4 +50,18 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
             .join(", ")
     );
     Ok(())
+}
+
+/// The export files (*.csv) of folder `dir`, sorted; an error if it has none.
+fn export_files(dir: &std::path::Path) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot read the folder {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "csv") && p.is_file())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        bail!("{}: no export files (*.csv) in this folder", dir.display());
+    }
+    Ok(files)
 }

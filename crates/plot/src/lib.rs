@@ -4,9 +4,10 @@
 //! PNGs and GIF frames are that SVG rendered by resvg ([`render`], [`Image`]) with DejaVu Sans
 //! embedded in the binary, so every format shows the same figure. [`phase`] draws phase
 //! diagrams and frequency heat maps (with the symbols of [`mark`]), [`speed`] free-speed
-//! curves; [`frames`] draws snapshots of the two
+//! curves, [`collapse`] every column's beta* against alpha~/L~; [`frames`] draws snapshots of the two
 //! cells of a collision.
 
+pub mod collapse;
 pub mod figure;
 pub mod frames;
 pub mod mark;

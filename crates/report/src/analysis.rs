@@ -1,9 +1,12 @@
 //! The numbers a report states, computed once: beta* per column of each diagram (the column
 //! model's, with the interpolated one beside), the line over all spacings at sigma = 5 and at
 //! sigma = 0, and the measured shift of the line between the two, by the model and by the
-//! paper's interpolation.
+//! paper's interpolation; and the collapse test: one line through every shown column, each at
+//! its own alpha~/L~ (its own R0, L and sigma).
 
-use cellsweep_stats::{fit_line, measure_shift, Column, Fit, Method, NoFit, Shift};
+use cellsweep_stats::{fit_columns, fit_line, measure_shift, Column, Fit, Method, NoFit, Shift};
+
+use crate::collapse::Placed;
 
 use crate::collection::{Collection, DiagramKey};
 use crate::Results;
@@ -26,12 +29,15 @@ pub struct Analysis<'a> {
     pub fit5_interpolated: Result<Fit, NoFit>,
     pub fit0_interpolated: Result<Fit, NoFit>,
     pub shift_interpolated: Option<Shift>,
+    /// Every shown column with its sweep's scales, and the line through all of them.
+    pub collapse_columns: Vec<Placed>,
+    pub collapse: Result<Fit, NoFit>,
 }
 
 impl<'a> Analysis<'a> {
     pub fn of(all: &'a [Results]) -> Analysis<'a> {
         let collection = Collection::of(all);
-        let per_diagram = collection
+        let per_diagram: Vec<(DiagramKey, Vec<Column>, Option<Fit>)> = collection
             .diagrams
             .iter()
             .map(|s| {
@@ -42,6 +48,13 @@ impl<'a> Analysis<'a> {
                 }
             })
             .collect();
+        let collapse_columns: Vec<Placed> = collection
+            .diagrams
+            .iter()
+            .zip(&per_diagram)
+            .flat_map(|(s, (_, cols, _))| cols.iter().map(|c| (s.results.scales, c.clone())))
+            .collect();
+        let pooled = collapse_columns.iter().map(|(_, c)| c.clone()).collect();
         let (c5, scales5) = collection.counts_at(Some(5.0));
         let (c0, scales0) = collection.counts_at(Some(0.0));
         let (call, scales) = collection.counts_at(None);
@@ -52,6 +65,8 @@ impl<'a> Analysis<'a> {
             fit5_interpolated: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Interpolate),
             fit0_interpolated: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Interpolate),
             shift_interpolated: measure_shift(&call, &scales, RESAMPLES, SEED, Method::Interpolate),
+            collapse: fit_columns(pooled, RESAMPLES, SEED),
+            collapse_columns,
             per_diagram,
             collection,
         }

@@ -10,6 +10,7 @@
 
 pub mod analysis;
 pub mod claims;
+pub mod collapse;
 pub mod collection;
 pub mod figures;
 pub mod html;

@@ -1,11 +1,12 @@
-//! The pictures of `cellsweep plot` (and `run --plot`) written as files: each diagram and the
-//! free-speed figure, as SVG and PNG.
+//! The pictures of `cellsweep plot` (and `run --plot`) written as files: each diagram, the
+//! free-speed figure and the collapse figure (beta* against alpha~/L~), as SVG and PNG.
 
 use std::path::{Path, PathBuf};
 
 use cellsweep_plot::{Figure, RenderError};
 use cellsweep_stats::{fit_line, Method};
 
+use crate::collapse::{collapse_of, Placed};
 use crate::{figures, Results};
 
 /// A picture that could not be drawn or written.
@@ -46,12 +47,22 @@ fn write(
 /// Write every picture of `results` into `dir`; returns the files written.
 pub fn write_plots(results: &Results, dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
     std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
-    let fitted = fit_line(&results.counts, &results.scales, 0, 1, Method::Model).ok();
+    let read = fit_line(&results.counts, &results.scales, 0, 1, Method::Model);
+    let fitted = read.as_ref().ok();
+    let columns = match &read {
+        Ok(f) => &f.columns,
+        Err(no) => &no.columns,
+    };
+    let placed: Vec<Placed> = columns
+        .iter()
+        .map(|c| (results.scales, c.clone()))
+        .collect();
     let mut written = Vec::new();
     for (l, sigma) in figures::diagrams(&results.counts) {
-        let fig = figures::diagram_of(results, (l, sigma), fitted.as_ref());
+        let fig = figures::diagram_of(results, (l, sigma), fitted);
         write(&fig, dir, &format!("phase-L{l}-sigma{sigma}"), &mut written)?;
     }
     write(&figures::speed_of(results), dir, "free-speed", &mut written)?;
+    write(&collapse_of(&placed, fitted), dir, "collapse", &mut written)?;
     Ok(written)
 }

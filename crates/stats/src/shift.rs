@@ -18,7 +18,8 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::counts::Counts;
-use crate::fit::{columns, read_columns, resample_diffs, Column, Method, Scales};
+use crate::fit::{columns, read_columns, Column, Method, Scales};
+use crate::interpolation::resample_diffs;
 use crate::model_line::{birge, weighted_line};
 use crate::sampling::percentile_95;
 

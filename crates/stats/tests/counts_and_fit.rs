@@ -1,6 +1,6 @@
 //! Labels at their edges, Wilson intervals, and the beta_crit fit on synthetic counts.
 
-use cellsweep_stats::{fit_line, wilson, Counts, Label, Method, Scales};
+use cellsweep_stats::{fit_columns, fit_line, wilson, Counts, Label, Method, Others, Scales};
 
 fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
     Counts {
@@ -177,4 +177,70 @@ fn the_sigma_shift_moves_the_line_left() {
     // At sigma = 0 the same x is reached 0.0134 lower in alpha.
     assert!((s.x(0.1, 90, 0.0) - s.x(0.1 + 0.013415, 90, 5.0)).abs() < 1e-9);
     assert!((s.x(0.1, 40, 5.0) - 1123.97 * 0.1).abs() < 0.01);
+}
+
+/// Counts at R0 = 32 (an axis of their sweep) drawn from the line a x + b, on the spacing and
+/// alphas that give the R0 = 40 columns of `synthetic` their x: L = 72, alpha x 40/32.
+fn synthetic_r0_32(a: f64, b: f64) -> Vec<Counts> {
+    let scales = Scales {
+        R0: 32.0,
+        ..Scales::default()
+    };
+    let mut out = Vec::new();
+    for k in 0..6 {
+        let alpha = (0.10 + 0.02 * k as f64) * 40.0 / 32.0;
+        let crit = a * scales.x(alpha, 72, 5.0) + b;
+        for j in 0..11 {
+            let beta = 10.0 + 4.0 * j as f64;
+            let p = 1.0 / (1.0 + (-(beta - crit) / 1.5).exp());
+            let n_walk = (96.0 * p).round() as u64;
+            out.push(Counts {
+                alpha,
+                beta,
+                L: 72,
+                n_walk,
+                n_train: 96 - n_walk,
+                others: Others(vec![("R0".into(), 32.0)]),
+                ..counts(0, 0, 0, 0)
+            });
+        }
+    }
+    out
+}
+
+#[test]
+fn columns_pooled_across_r0_fall_on_one_line_only_where_the_data_collapse() {
+    let scales = Scales::default();
+    let read = |data: &[Counts]| match fit_line(data, &scales, 0, 1, Method::Model) {
+        Ok(f) => f.columns,
+        Err(no) => no.columns,
+    };
+    let at40 = read(&synthetic(0.6, -12.0));
+    // Each R0 = 32 column's x is its own (R0 from its axes), equal to its R0 = 40 partner's.
+    let collapsed = read(&synthetic_r0_32(0.6, -12.0));
+    for c in &collapsed {
+        let partner = at40
+            .iter()
+            .find(|p| p.L == 90 && (p.alpha * 40.0 / 32.0 - c.alpha).abs() < 1e-12)
+            .unwrap();
+        assert!(
+            (c.x - partner.x).abs() < 1e-9 * partner.x,
+            "{c:?} vs {partner:?}"
+        );
+    }
+    let pooled = fit_columns([at40.clone(), collapsed].concat(), 300, 7).unwrap();
+    assert!((pooled.a - 0.6).abs() < 0.01, "a = {}", pooled.a);
+    assert!((pooled.b + 12.0).abs() < 0.6, "b = {}", pooled.b);
+    assert!(pooled.scatter.unwrap() < 1.5, "{:?}", pooled.scatter);
+    // Pooling one sweep's own columns gives its own fit.
+    let alone = fit_line(&synthetic(0.6, -12.0), &scales, 300, 7, Method::Model).unwrap();
+    let again = fit_columns(at40.clone(), 300, 7).unwrap();
+    assert_eq!(
+        (again.a, again.b, again.a_ci),
+        (alone.a, alone.b, alone.a_ci)
+    );
+    // Where R0 = 32 crosses 6 higher, the pooled columns scatter far beyond their intervals.
+    let broken = read(&synthetic_r0_32(0.6, -6.0));
+    let off = fit_columns([at40, broken].concat(), 300, 7).unwrap();
+    assert!(off.scatter.unwrap() > 3.0, "{:?}", off.scatter);
 }

@@ -10,10 +10,12 @@ use crate::claims::{evaluate, Claim, Verdict};
 use crate::collection::PAPER_DIAGRAMS;
 use crate::Results;
 
+mod collapse;
 mod diagrams;
 mod line;
 mod provenance;
 
+use collapse::collapse_section;
 use diagrams::{checks_section, diagrams_section};
 use line::{columns_section, fit_section};
 use provenance::provenance_section;
@@ -94,6 +96,7 @@ pub fn render(all: &[Results], generated: &str) -> String {
     header(&mut h, &an, &claims, generated);
     claims_section(&mut h, &claims);
     fit_section(&mut h, &an);
+    collapse_section(&mut h, &an);
     columns_section(&mut h, &an);
     diagrams_section(&mut h, &an);
     checks_section(&mut h, &an);
@@ -152,7 +155,7 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
          <p class=\"lead\">{shown} of the paper's 6 phase diagrams are here, from {trajectories} \
          collisions. Of the paper's {} claims checked below, {} are reproduced, {} partly, {} \
          not, and {} wait for diagrams not yet run.</p>\n{running}\
-         <nav><a href=\"#claims\">Claims</a><a href=\"#fit\">The line</a>\
+         <nav><a href=\"#claims\">Claims</a><a href=\"#fit\">The line</a><a href=\"#collapse\">One line?</a>\
          <a href=\"#columns\">β* per column</a><a href=\"#diagrams\">Diagrams</a>\
          <a href=\"#checks\">Speed and spindle</a><a href=\"#provenance\">Provenance</a></nav>\n",
         escape(generated),

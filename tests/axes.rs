@@ -186,4 +186,36 @@ fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
         text.contains("E0 = 1000") && text.contains("E0 = 3000"),
         "{text}"
     );
+    // Each E0 is its own diagram, drawn apart, its title naming it.
+    table(&["plot", "--db", "grid.sqlite", "--out", "plots"]);
+    assert!(!dir.join("plots/phase-L48-sigma5.svg").exists());
+    for (e0, other) in [(1000, 3000), (3000, 1000)] {
+        let svg = std::fs::read_to_string(dir.join(format!("plots/phase-L48-sigma5-E0_{e0}.svg")))
+            .unwrap();
+        assert!(svg.contains(&format!("E0 = {e0}")), "{svg}");
+        assert!(!svg.contains(&format!("E0 = {other}")), "{svg}");
+    }
+    // --where selects on any axis; an axis the sweep lacks, or a value none has, is refused
+    // in one line.
+    let only = table(&[
+        "table",
+        "--db",
+        "grid.sqlite",
+        "--where",
+        "E0=3000",
+        "--format",
+        "json",
+    ]);
+    let rows: Vec<serde_json::Value> = serde_json::from_str(&only).unwrap();
+    assert_eq!(rows.len(), 2, "{only}");
+    assert!(rows.iter().all(|r| r["E0"] == 3000.0), "{only}");
+    for (sel, says) in [
+        ("R0=32", "has no such axis"),
+        ("E0=7", "no points match E0 = 7"),
+    ] {
+        let o = cellsweep_in(&dir, &["table", "--db", "grid.sqlite", "--where", sel]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(says), "{sel}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
 }

@@ -4,10 +4,12 @@ use clap::{Args, Parser, Subcommand};
 
 mod engine;
 mod results;
+mod selection;
 mod solver;
 
 pub use engine::*;
 pub use results::*;
+pub use selection::*;
 pub use solver::*;
 
 #[derive(Debug, Parser)]

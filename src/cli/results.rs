@@ -3,7 +3,7 @@
 
 use clap::Args;
 
-use super::DbArgs;
+use super::{DbArgs, Selection};
 
 #[derive(Debug, Args)]
 pub struct StatusArgs {
@@ -71,12 +71,8 @@ pub enum FitFormat {
 pub struct TableArgs {
     #[command(flatten)]
     pub source: CountsSource,
-    /// Only this fiber spacing.
-    #[arg(long = "L")]
-    pub spacing: Option<u32>,
-    /// Only this adhesion.
-    #[arg(long)]
-    pub sigma: Option<f64>,
+    #[command(flatten)]
+    pub select: Selection,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
@@ -85,6 +81,8 @@ pub struct TableArgs {
 pub struct FitArgs {
     #[command(flatten)]
     pub source: CountsSource,
+    #[command(flatten)]
+    pub select: Selection,
     /// text or json.
     #[arg(long, value_enum, default_value = "text")]
     pub format: FitFormat,
@@ -145,6 +143,8 @@ pub struct CompareArgs {
 pub struct PlotArgs {
     #[command(flatten)]
     pub source: CountsSource,
+    #[command(flatten)]
+    pub select: Selection,
     /// Folder for the pictures (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: std::path::PathBuf,

@@ -16,10 +16,13 @@ fn with_interval(v: f64, ci: Option<[f64; 2]>) -> String {
 
 /// One column: its beta* by the method in use, and the other reading beside it.
 fn column_line(c: &Column) -> String {
-    let head = format!(
+    let mut head = format!(
         "  L = {:>3}  sigma = {:>3}  alpha = {:<5}  alpha~/L~ = {:>7.2}",
         c.L, c.sigma, c.alpha, c.x
     );
+    if !c.others.is_empty() {
+        head += &format!("  ({})", c.others);
+    }
     let primary = match (c.beta_star, &c.skipped) {
         (Some(b), _) => format!("beta* = {}", with_interval(b, c.beta_ci)),
         (None, why) => format!("no beta*: {}", why.as_deref().unwrap_or("no crossing")),
@@ -91,7 +94,7 @@ fn print_fit(fit: &Fit, name: &str) {
 }
 
 pub fn run(args: FitArgs) -> anyhow::Result<i32> {
-    let loaded = args.source.load()?;
+    let loaded = args.select.apply(args.source.load()?)?;
     let method = args.method.method();
     match fit_line(
         &loaded.counts,

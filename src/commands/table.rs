@@ -9,25 +9,13 @@ use crate::cli::{Format, TableArgs};
 use cellsweep_report::text::{fraction_cell, fractions, grids_text, FRACTIONS, LEGEND};
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
-    let loaded = args.source.load()?;
-    let keep = |c: &Counts| {
-        args.spacing.is_none_or(|l| c.L == l) && args.sigma.is_none_or(|s| c.sigma == s)
-    };
-    // An adaptive sweep's standing of each kept point.
-    let standings: Option<Vec<Assessment>> = loaded.standings.as_ref().map(|st| {
-        loaded
-            .counts
-            .iter()
-            .zip(st)
-            .filter(|(c, _)| keep(c))
-            .map(|(_, a)| a.clone())
-            .collect()
-    });
-    let counts: Vec<Counts> = loaded.counts.into_iter().filter(|c| keep(c)).collect();
+    let loaded = args.select.apply(args.source.load()?)?;
+    let counts = loaded.counts;
     if counts.is_empty() {
-        anyhow::bail!("no points match in {}", loaded.name);
+        anyhow::bail!("no points in {}", loaded.name);
     }
-    let standings = standings.as_deref();
+    // An adaptive sweep's standing of each point.
+    let standings = loaded.standings.as_deref();
     match args.format {
         Format::Text => print_text(&counts, standings),
         Format::Csv => print_csv(&counts, standings),

@@ -43,8 +43,8 @@ impl<'a> Analysis<'a> {
             .map(|s| {
                 let counts: Vec<_> = s.counts().cloned().collect();
                 match fit_line(&counts, &s.results.scales, RESAMPLES, SEED, Method::Model) {
-                    Ok(f) => (s.key, f.columns.clone(), Some(f)),
-                    Err(no) => (s.key, no.columns, None),
+                    Ok(f) => (s.key.clone(), f.columns.clone(), Some(f)),
+                    Err(no) => (s.key.clone(), no.columns, None),
                 }
             })
             .collect();
@@ -72,11 +72,12 @@ impl<'a> Analysis<'a> {
         }
     }
 
-    /// The columns of diagram (L, sigma), if it is shown.
+    /// The columns of the paper's diagram (L, sigma), if it is shown.
     pub fn columns(&self, l: u32, sigma: f64) -> Option<&[Column]> {
+        let key = DiagramKey::paper(l, sigma);
         self.per_diagram
             .iter()
-            .find(|(k, _, _)| k.L == l && k.sigma == sigma)
+            .find(|(k, _, _)| *k == key)
             .map(|(_, c, _)| c.as_slice())
     }
 }

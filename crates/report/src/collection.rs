@@ -2,21 +2,58 @@
 //! free speed against beta (several free-motion cells per point), and the spindle check (one
 //! fiber).
 
-use cellsweep_stats::{Counts, Scales};
+use cellsweep_stats::{Counts, Others, Scales};
 
 use crate::Results;
 
-/// One of the paper's phase diagrams.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One phase diagram (alpha across, beta up): a spacing, a sigma and the values of the sweep's
+/// other axes (none for the paper's).
+#[derive(Debug, Clone, PartialEq)]
 #[allow(non_snake_case)]
 pub struct DiagramKey {
     pub L: u32,
     pub sigma: f64,
+    pub others: Others,
 }
 
 impl DiagramKey {
+    /// The paper's diagram (L, sigma): no other axis.
+    pub const fn paper(l: u32, sigma: f64) -> DiagramKey {
+        DiagramKey {
+            L: l,
+            sigma,
+            others: Others(Vec::new()),
+        }
+    }
+
+    /// The diagram that point `c` belongs to.
+    pub fn of(c: &Counts) -> DiagramKey {
+        DiagramKey {
+            L: c.L,
+            sigma: c.sigma,
+            others: c.others.clone(),
+        }
+    }
+
+    /// Whether point `c` belongs to this diagram.
+    pub fn holds(&self, c: &Counts) -> bool {
+        c.L == self.L && c.sigma == self.sigma && c.others == self.others
+    }
+
+    /// The stem of its picture files: phase-L90-sigma5, then -NAME_VALUE per other axis.
+    pub fn file_stem(&self) -> String {
+        let mut stem = format!("phase-L{}-sigma{}", self.L, self.sigma);
+        for (name, v) in &self.others.0 {
+            stem += &format!("-{name}_{v}");
+        }
+        stem
+    }
+
     /// The paper's figure of this diagram (main text or appendix), if it has one.
-    pub fn paper_figure(self) -> Option<&'static str> {
+    pub fn paper_figure(&self) -> Option<&'static str> {
+        if !self.others.is_empty() {
+            return None;
+        }
         Some(match (self.L, self.sigma as i64) {
             (90, 5) => "Fig. 3",
             (70, 5) => "Fig. 4",
@@ -28,19 +65,22 @@ impl DiagramKey {
         })
     }
 
-    pub fn title(self) -> String {
-        format!("L = {}, σ = {}", self.L, self.sigma)
+    pub fn title(&self) -> String {
+        match self.others.is_empty() {
+            true => format!("L = {}, σ = {}", self.L, self.sigma),
+            false => format!("L = {}, σ = {}, {}", self.L, self.sigma, self.others),
+        }
     }
 }
 
 /// The paper's six diagrams, in its order of discussion.
 pub const PAPER_DIAGRAMS: [DiagramKey; 6] = [
-    DiagramKey { L: 90, sigma: 5.0 },
-    DiagramKey { L: 80, sigma: 5.0 },
-    DiagramKey { L: 70, sigma: 5.0 },
-    DiagramKey { L: 90, sigma: 0.0 },
-    DiagramKey { L: 80, sigma: 0.0 },
-    DiagramKey { L: 70, sigma: 0.0 },
+    DiagramKey::paper(90, 5.0),
+    DiagramKey::paper(80, 5.0),
+    DiagramKey::paper(70, 5.0),
+    DiagramKey::paper(90, 0.0),
+    DiagramKey::paper(80, 0.0),
+    DiagramKey::paper(70, 0.0),
 ];
 
 /// A diagram and the results that show it.
@@ -115,10 +155,7 @@ impl<'a> Collection<'a> {
         let mut keys: Vec<DiagramKey> = PAPER_DIAGRAMS.to_vec();
         for r in &diagram_sets {
             for k in r.counts.iter() {
-                let key = DiagramKey {
-                    L: k.L,
-                    sigma: k.sigma,
-                };
+                let key = DiagramKey::of(k);
                 if !keys.contains(&key) {
                     keys.push(key);
                 }
@@ -129,10 +166,10 @@ impl<'a> Collection<'a> {
                 .iter()
                 .map(|r| {
                     let points: Vec<usize> = (0..r.counts.len())
-                        .filter(|&i| r.counts[i].L == key.L && r.counts[i].sigma == key.sigma)
+                        .filter(|&i| key.holds(&r.counts[i]))
                         .collect();
                     Shown {
-                        key,
+                        key: key.clone(),
                         results: r,
                         points,
                     }
@@ -154,11 +191,14 @@ impl<'a> Collection<'a> {
         c
     }
 
-    /// The diagram (L, sigma), if a result set shows it.
+    /// The paper's diagram (L, sigma) (no other axis), if a result set shows it.
     pub fn diagram(&self, l: u32, sigma: f64) -> Option<&Shown<'a>> {
-        self.diagrams
-            .iter()
-            .find(|s| s.key.L == l && s.key.sigma == sigma)
+        self.shown(&DiagramKey::paper(l, sigma))
+    }
+
+    /// Diagram `key`, if a result set shows it.
+    pub fn shown(&self, key: &DiagramKey) -> Option<&Shown<'a>> {
+        self.diagrams.iter().find(|s| s.key == *key)
     }
 
     /// Every shown point at `sigma` (all L), with the scales of the first set: what the fit

@@ -8,6 +8,7 @@ use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
 use cellsweep_stats::{wilson, Assessment, Counts, Fit, Label, Scales, Standing};
 
+use crate::collection::DiagramKey;
 use crate::Results;
 
 /// The plot symbol of a label.
@@ -42,15 +43,20 @@ pub fn beta_line(
     }
 }
 
-/// The (L, sigma) diagrams of `counts`, widest spacing and largest sigma first.
-pub fn diagrams(counts: &[Counts]) -> Vec<(u32, f64)> {
-    let mut keys: Vec<(u32, f64)> = Vec::new();
+/// The diagrams of `counts`: per (L, sigma) and per value of every other axis, widest spacing
+/// and largest sigma first, then the other axes' values rising.
+pub fn diagrams(counts: &[Counts]) -> Vec<DiagramKey> {
+    let mut keys: Vec<DiagramKey> = Vec::new();
     for c in counts {
-        if !keys.contains(&(c.L, c.sigma)) {
-            keys.push((c.L, c.sigma));
+        if !keys.iter().any(|k| k.holds(c)) {
+            keys.push(DiagramKey::of(c));
         }
     }
-    keys.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)));
+    keys.sort_by(|a, b| {
+        (b.L.cmp(&a.L))
+            .then(b.sigma.total_cmp(&a.sigma))
+            .then(a.others.bits().cmp(&b.others.bits()))
+    });
     keys
 }
 
@@ -59,13 +65,16 @@ pub fn assessment(results: &Results, i: usize) -> Option<&Assessment> {
     results.standings.as_ref().and_then(|st| st.get(i))
 }
 
-/// Diagram (L, sigma) of `results` with the paper's line and, if given, a fitted one.
-pub fn diagram(results: &Results, (l, sigma): (u32, f64), fit: Option<&Fit>) -> Diagram {
+/// Diagram `key` of `results` with the paper's line and, if given, a fitted one (each at the
+/// diagram's own R0 and d where its sweep varies them).
+pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagram {
+    let (l, sigma) = (key.L, key.sigma);
+    let scales = results.scales.at(&key.others);
     let points = results
         .counts
         .iter()
         .enumerate()
-        .filter(|(_, c)| c.L == l && c.sigma == sigma)
+        .filter(|(_, c)| key.holds(c))
         .map(|(i, c)| {
             let n = c.collisions() as f64;
             let f = |k: u64| {
@@ -88,7 +97,7 @@ pub fn diagram(results: &Results, (l, sigma): (u32, f64), fit: Option<&Fit>) -> 
         })
         .collect();
     let mut lines = vec![beta_line(
-        &results.scales,
+        &scales,
         (PAPER_A, PAPER_B),
         (l, sigma),
         "paper\u{2019}s β_{crit}".into(),
@@ -96,26 +105,29 @@ pub fn diagram(results: &Results, (l, sigma): (u32, f64), fit: Option<&Fit>) -> 
     )];
     if let Some(fit) = fit {
         lines.push(beta_line(
-            &results.scales,
+            &scales,
             (fit.a, fit.b),
             (l, sigma),
             format!("fit: a = {:.2}, b = {:.1}", fit.a, fit.b),
             Color::ORANGE,
         ));
     }
+    let um = l as f64 * cellsweep_plot::frames::SITE_UM;
     Diagram {
-        title: format!(
-            "{}: L = {l} ({} µm), σ = {sigma}",
-            results.name,
-            l as f64 * cellsweep_plot::frames::SITE_UM
-        ),
+        title: match key.others.is_empty() {
+            true => format!("{}: L = {l} ({um} µm), σ = {sigma}", results.name),
+            false => format!(
+                "{}: L = {l} ({um} µm), σ = {sigma}, {}",
+                results.name, key.others
+            ),
+        },
         points,
         lines,
     }
 }
 
-/// The four-panel figure of diagram (L, sigma).
-pub fn diagram_of(results: &Results, key: (u32, f64), fit: Option<&Fit>) -> Figure {
+/// The four-panel figure of diagram `key`.
+pub fn diagram_of(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Figure {
     diagram_figure(&diagram(results, key, fit))
 }
 

@@ -38,6 +38,29 @@ pub struct Results {
     pub provenance: Option<Provenance>,
 }
 
+impl Results {
+    /// These results with only the points `keep` holds (their standings and prep speeds
+    /// follow them).
+    pub fn only(self, keep: impl Fn(&Counts) -> bool) -> Results {
+        let kept: Vec<bool> = self.counts.iter().map(&keep).collect();
+        Results {
+            counts: pick(self.counts, &kept),
+            standings: self.standings.map(|v| pick(v, &kept)),
+            prep_speeds: self.prep_speeds.map(|v| pick(v, &kept)),
+            ..self
+        }
+    }
+}
+
+/// The items of `v` whose flag in `kept` is set.
+fn pick<T>(v: Vec<T>, kept: &[bool]) -> Vec<T> {
+    v.into_iter()
+        .zip(kept)
+        .filter(|(_, k)| **k)
+        .map(|(x, _)| x)
+        .collect()
+}
+
 /// What a sweep is and what running it cost.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Provenance {

@@ -58,9 +58,9 @@ pub fn write_plots(results: &Results, dir: &Path) -> Result<Vec<PathBuf>, WriteE
         .map(|c| (results.scales, c.clone()))
         .collect();
     let mut written = Vec::new();
-    for (l, sigma) in figures::diagrams(&results.counts) {
-        let fig = figures::diagram_of(results, (l, sigma), fitted);
-        write(&fig, dir, &format!("phase-L{l}-sigma{sigma}"), &mut written)?;
+    for key in figures::diagrams(&results.counts) {
+        let fig = figures::diagram_of(results, &key, fitted);
+        write(&fig, dir, &key.file_stem(), &mut written)?;
     }
     write(&figures::speed_of(results), dir, "free-speed", &mut written)?;
     write(&collapse_of(&placed, fitted), dir, "collapse", &mut written)?;

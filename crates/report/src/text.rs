@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{wilson, Counts, Label, Others};
+use cellsweep_stats::{wilson, Counts, Label};
 use cellsweep_store::PointCounts;
 
 /// Sorted distinct values.
@@ -45,30 +45,14 @@ pub fn fraction_cell(k: u64, n: u64) -> String {
 /// Every diagram's grid of labels: one per (L, sigma) as in the paper and, in a sweep with
 /// other axes, per combination of their values (named in the grid's title).
 pub fn grids_text(counts: &[Counts]) -> String {
-    let mut groups: Vec<&Others> = Vec::new();
-    for c in counts {
-        if !groups.contains(&&c.others) {
-            groups.push(&c.others);
-        }
-    }
     let mut s = String::new();
-    for others in groups {
-        let group: Vec<Counts> = counts
-            .iter()
-            .filter(|c| c.others == *others)
-            .cloned()
-            .collect();
-        for (l, sigma) in crate::figures::diagrams(&group) {
-            let pts: Vec<&Counts> = group
-                .iter()
-                .filter(|c| c.L == l && c.sigma == sigma)
-                .collect();
-            let mut title = format!("L = {l}, sigma = {sigma}");
-            if !others.is_empty() {
-                let _ = write!(title, ", {others}");
-            }
-            let _ = writeln!(s, "{}", grid_of(&pts, &title));
+    for key in crate::figures::diagrams(counts) {
+        let pts: Vec<&Counts> = counts.iter().filter(|c| key.holds(c)).collect();
+        let mut title = format!("L = {}, sigma = {}", key.L, key.sigma);
+        if !key.others.is_empty() {
+            let _ = write!(title, ", {}", key.others);
         }
+        let _ = writeln!(s, "{}", grid_of(&pts, &title));
     }
     s
 }

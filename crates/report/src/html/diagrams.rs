@@ -10,7 +10,7 @@ use crate::collection::{DiagramKey, Shown, PAPER_DIAGRAMS};
 use crate::figures::{diagram_of, speed_of};
 
 /// The sweep file that makes diagram `key` in this repository.
-pub(super) fn sweep_file(key: DiagramKey) -> String {
+pub(super) fn sweep_file(key: &DiagramKey) -> String {
     format!("sweeps/adaptive/L{}-sigma{}.toml", key.L, key.sigma)
 }
 
@@ -85,7 +85,7 @@ pub(super) fn diagrams_section(h: &mut String, an: &Analysis<'_>) {
             let _ = writeln!(
                 h,
                 "<p>Not run yet: <code>cellsweep run {}</code>.</p>",
-                sweep_file(key)
+                sweep_file(&key)
             );
             continue;
         };
@@ -94,7 +94,7 @@ pub(super) fn diagrams_section(h: &mut String, an: &Analysis<'_>) {
         } else {
             an.fit0.as_ref().ok()
         };
-        let svg = diagram_of(s.results, (key.L, key.sigma), fit).to_svg();
+        let svg = diagram_of(s.results, &key, fit).to_svg();
         let _ = writeln!(
             h,
             "<figure>{svg}<figcaption>{} (sweep {})</figcaption></figure>",
@@ -108,7 +108,7 @@ pub(super) fn diagrams_section(h: &mut String, an: &Analysis<'_>) {
         .iter()
         .filter(|s| !PAPER_DIAGRAMS.contains(&s.key))
     {
-        let svg = diagram_of(s.results, (s.key.L, s.key.sigma), None).to_svg();
+        let svg = diagram_of(s.results, &s.key, None).to_svg();
         let _ = writeln!(
             h,
             "<h3>{} (not one of the paper's)</h3>\n<figure>{svg}<figcaption>{} (sweep {})\

@@ -156,10 +156,9 @@ pub(super) fn columns_section(h: &mut String, an: &Analysis<'_>) {
         return;
     }
     for (key, cols, _) in &an.per_diagram {
-        let Some(shown) = an.collection.diagram(key.L, key.sigma) else {
+        if an.collection.shown(key).is_none() {
             continue;
-        };
-        let scales = shown.results.scales;
+        }
         let _ = write!(
             h,
             "<h3>{}</h3>\n<table>\n<tr><th>α</th>",
@@ -183,13 +182,8 @@ pub(super) fn columns_section(h: &mut String, an: &Analysis<'_>) {
         }
         h.push_str("</tr>\n<tr><td>paper's line</td>");
         for c in cols {
-            let b = scales.beta_on_line(
-                cellsweep_stats::fit::PAPER_A,
-                cellsweep_stats::fit::PAPER_B,
-                c.alpha,
-                c.L,
-                c.sigma,
-            );
+            // c.x is alpha~/L~ at the column's own R0 and d.
+            let b = cellsweep_stats::fit::PAPER_A * c.x + cellsweep_stats::fit::PAPER_B;
             let _ = write!(h, "<td class=\"num\">{b:.1}</td>");
         }
         h.push_str("</tr>\n</table>\n");

@@ -201,14 +201,16 @@ impl<'a> Collection<'a> {
         self.diagrams.iter().find(|s| s.key == *key)
     }
 
-    /// Every shown point at `sigma` (all L), with the scales of the first set: what the fit
-    /// over all spacings reads.
+    /// Every shown point at `sigma` (all L) of the diagrams without other axes (the paper's
+    /// kind: a sweep over R0 or E0 is the collapse figure's, not the paper's line), with the
+    /// scales of the first set: what the fit over all spacings reads.
     pub fn counts_at(&self, sigma: Option<f64>) -> (Vec<Counts>, Scales) {
         let mut out = Vec::new();
         let mut scales = None;
         for s in self
             .diagrams
             .iter()
+            .filter(|s| s.key.others.is_empty())
             .filter(|s| sigma.is_none_or(|v| s.key.sigma == v))
         {
             scales.get_or_insert(s.results.scales);

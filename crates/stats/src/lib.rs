@@ -11,7 +11,9 @@
 //!   [`Tally`]s gives a [`ColumnModel`] with its profile-likelihood interval, or why none);
 //! - the transition line beta_crit = a alpha~/L~ + b over the diagrams' columns ([`fit_line`]
 //!   gives a [`Fit`], its columns read by [`Method::Model`] or the paper's
-//!   [`Method::Interpolate`]), and the shift between two sigmas ([`measure_shift`]);
+//!   [`Method::Interpolate`], the latter in [`interpolation`]); the line through columns
+//!   pooled from several sweeps, each at its own alpha~/L~ ([`fit_columns`]: the collapse
+//!   test); and the shift between two sigmas ([`measure_shift`]);
 //! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
 //!   [`ColumnNeed`]);
 //! - two result sets compared point by point ([`compare`] gives a [`Comparison`]);

@@ -16,7 +16,7 @@
 //!   test); and the shift between two sigmas ([`measure_shift`]);
 //! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
 //!   [`ColumnNeed`]);
-//! - two result sets compared point by point ([`compare`] gives a [`Comparison`]);
+//! - two result sets compared point by point ([`compare()`] gives a [`Comparison`]);
 //! - a run's throughput and ETA ([`throughput`]).
 //!
 //! The path: `cellsweep_store` reads replicates and counts out of a store, `cellsweep_report`

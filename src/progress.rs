@@ -55,30 +55,6 @@ impl Monitor for StageBars {
     }
 }
 
-/// A duration as `45s`, `12m05s` or `3h07m`.
-pub fn fmt_duration(s: f64) -> String {
-    let s = s.max(0.0).round() as u64;
-    match s {
-        0..=59 => format!("{s}s"),
-        60..=3599 => format!("{}m{:02}s", s / 60, s % 60),
-        _ => format!("{}h{:02}m", s / 3600, (s % 3600) / 60),
-    }
-}
-
-/// Speed and time left, as `status` and the running sweep's bar both print them (one
-/// estimator: `cellsweep_stats::throughput`). None before any job has finished.
-pub fn speed_line(jobs_per_s: Option<f64>, remaining: f64) -> Option<String> {
-    let rate = jobs_per_s?;
-    Some(
-        match cellsweep_stats::throughput::eta_s(remaining, Some(rate)) {
-            Some(eta) if remaining > 0.0 => {
-                format!("{:.2} jobs/min · ETA {}", rate * 60.0, fmt_duration(eta))
-            }
-            _ => format!("{:.2} jobs/min", rate * 60.0),
-        },
-    )
-}
-
 /// Progress of a sweep: an indicatif bar on a terminal, a plain line every 10 s otherwise.
 pub struct SweepBar {
     bar: Option<ProgressBar>,
@@ -121,7 +97,7 @@ impl SweepBar {
         } else {
             let left = p.jobs_total.saturating_sub(p.jobs_done) as f64;
             parts.push(
-                speed_line(p.jobs_per_s, left)
+                cellsweep_stats::throughput::speed_line(p.jobs_per_s, left)
                     .unwrap_or_else(|| "collisions running, speed after the first".into()),
             );
         }

@@ -3,10 +3,10 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
-use std::sync::OnceLock;
 
+use common::browser::browser;
 use common::{workdir, write_sweep};
 
 fn cellsweep(args: &[&str]) -> Output {
@@ -42,34 +42,6 @@ fn assert_self_contained(html: &str) {
             &rest[..rest.len().min(60)]
         );
     }
-}
-
-/// The headless browser of this machine: `CELLSWEEP_BROWSER`, or Debian's chromium, which
-/// scripts/chromium-local.sh installs where it is missing (as the Slurm tests start their
-/// cluster), once per test binary.
-fn browser() -> Result<PathBuf, String> {
-    static BROWSER: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    BROWSER
-        .get_or_init(|| {
-            let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/chromium-local.sh");
-            let out = Command::new("bash")
-                .arg(&script)
-                .arg("up")
-                .output()
-                .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
-            let path = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            if out.status.success() && !path.is_empty() {
-                Ok(PathBuf::from(path))
-            } else {
-                Err(format!(
-                    "no headless browser, and scripts/chromium-local.sh could not install one \
-                     ({}): install Debian's chromium (apt-get install chromium) or point \
-                     CELLSWEEP_BROWSER at a chromium",
-                    String::from_utf8_lossy(&out.stderr).trim()
-                ))
-            }
-        })
-        .clone()
 }
 
 /// Load `page` headless: (the DOM it built, the console messages it logged, a screenshot).

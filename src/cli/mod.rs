@@ -62,6 +62,10 @@ pub enum Command {
     /// point, the beta_crit fit over every spacing and the sigma shift, beta* per column, each
     /// of the paper's claims with the numbers and a verdict, and provenance.
     Report(ReportArgs),
+    /// A live page for a store that a run or a Slurm `submit --watch` is filling: progress and
+    /// ETA, the diagrams filling in, standings, failures and Slurm arrays, updated without a
+    /// reload. Read-only, GET only; binds 127.0.0.1 unless told otherwise.
+    Serve(ServeArgs),
     /// Measure the solver on this machine, one core: step rates, one whole trajectory, and the
     /// NumPy yardstick (scripts/numpy_yardstick.py) where Python and NumPy are available.
     Bench(BenchArgs),
@@ -73,6 +77,28 @@ pub enum Command {
     /// Slurm array task's slice of jobs.
     #[command(hide = true)]
     Worker(WorkerArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    pub db: DbArgs,
+    /// A folder of `cellsweep export` files (or one file) whose diagrams are shown below the
+    /// live ones; give it again to add more.
+    #[arg(long, value_name = "DIR")]
+    pub data: Vec<std::path::PathBuf>,
+    /// The port to listen on (0: any free one, printed).
+    #[arg(long, default_value_t = 8080)]
+    pub port: u16,
+    /// The address to listen on. Anything but a loopback address exposes the page, which has
+    /// no authentication, to the network: reach it through an ssh tunnel instead
+    /// (`ssh -L 8080:127.0.0.1:8080 host`).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: std::net::IpAddr,
+    /// Seconds between the page's polls (and the least time between two readings of the
+    /// store).
+    #[arg(long, default_value_t = 2.0, value_name = "SECONDS")]
+    pub poll: f64,
 }
 
 #[derive(Debug, Args)]

@@ -11,6 +11,7 @@ mod relax;
 mod report;
 mod reset;
 mod run;
+mod serve;
 mod simulate;
 mod slurm;
 mod status;
@@ -32,6 +33,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Reset(args) => reset::run(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Report(args) => report::run(args).map(|_| 0),
+        Command::Serve(args) => serve::run(args).map(|_| 0),
         Command::Bench(args) => bench::run(args).map(|_| 0),
         Command::Completions(args) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();

@@ -53,7 +53,7 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
 }
 
 /// The export files (*.csv) of folder `dir`, sorted; an error if it has none.
-fn export_files(dir: &std::path::Path) -> anyhow::Result<Vec<std::path::PathBuf>> {
+pub fn export_files(dir: &std::path::Path) -> anyhow::Result<Vec<std::path::PathBuf>> {
     let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("cannot read the folder {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))

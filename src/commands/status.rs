@@ -5,7 +5,7 @@ use cellsweep_store::{OutcomeCounts, Store, SweepStatus};
 use serde_json::Value;
 
 use crate::cli::StatusArgs;
-use crate::progress::speed_line;
+use cellsweep_stats::throughput::speed_line;
 
 pub fn outcome_line(o: &OutcomeCounts) -> String {
     let mut s = format!(
@@ -31,14 +31,7 @@ fn standings(
         return Ok(None);
     }
     let id = store.sweep_id(sweep)?;
-    let Some(st) = cellsweep_scheduler::Ledger::load(store, id, version)?.assess(store)? else {
-        return Ok(None);
-    };
-    let mut by = std::collections::BTreeMap::new();
-    for a in st {
-        *by.entry(a.standing.as_str()).or_default() += 1;
-    }
-    Ok(Some(by))
+    Ok(cellsweep_scheduler::Ledger::load(store, id, version)?.standing_counts(store)?)
 }
 
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {

@@ -22,6 +22,28 @@ pub fn eta_s(remaining: f64, rate: Option<f64>) -> Option<f64> {
     rate.filter(|r| *r > 0.0).map(|r| remaining / r)
 }
 
+/// A duration as `45s`, `12m05s` or `3h07m`.
+pub fn fmt_duration(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    match s {
+        0..=59 => format!("{s}s"),
+        60..=3599 => format!("{}m{:02}s", s / 60, s % 60),
+        _ => format!("{}h{:02}m", s / 3600, (s % 3600) / 60),
+    }
+}
+
+/// Speed and time left, as `status` and the running sweep's bar both print them (one
+/// estimator: this module's). None before any job has finished.
+pub fn speed_line(jobs_per_s: Option<f64>, remaining: f64) -> Option<String> {
+    let rate = jobs_per_s?;
+    Some(match eta_s(remaining, Some(rate)) {
+        Some(eta) if remaining > 0.0 => {
+            format!("{:.2} jobs/min · ETA {}", rate * 60.0, fmt_duration(eta))
+        }
+        _ => format!("{:.2} jobs/min", rate * 60.0),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

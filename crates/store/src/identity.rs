@@ -99,6 +99,25 @@ impl Store {
             })?)
     }
 
+    /// The sweep file a registered sweep was last run from, as given (None when unknown, as
+    /// for an imported sweep).
+    pub fn sweep_source(&self, sweep_id: i64) -> Result<Option<String>> {
+        Ok(self
+            .conn
+            .query_row("SELECT source FROM sweeps WHERE id = ?1", [sweep_id], |r| {
+                r.get(0)
+            })?)
+    }
+
+    /// SQLite's count of commits by other connections (`PRAGMA data_version`): it changes
+    /// exactly when someone else wrote the file since this connection last asked, so a reader
+    /// that polls knows without a query over the data whether anything is new.
+    pub fn data_version(&self) -> Result<i64> {
+        Ok(self
+            .conn
+            .query_row("PRAGMA data_version", [], |r| r.get(0))?)
+    }
+
     /// Jobs registered per point of a sweep under `version`, and how many of them are still
     /// open (pending or running), by point index.
     pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<PointJobs>> {

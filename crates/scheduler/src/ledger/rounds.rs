@@ -56,6 +56,21 @@ impl Ledger {
         )))
     }
 
+    /// How many points stand where (open, settled, sign, exhausted, verdict) under the
+    /// adaptive rule: what `status` and the live page show (None for a fixed sweep).
+    pub fn standing_counts(
+        &self,
+        store: &Store,
+    ) -> Result<Option<std::collections::BTreeMap<&'static str, usize>>, RunError> {
+        Ok(self.assess(store)?.map(|all| {
+            let mut by = std::collections::BTreeMap::new();
+            for a in all {
+                *by.entry(a.standing.as_str()).or_default() += 1;
+            }
+            by
+        }))
+    }
+
     /// Add the next round of every open point whose round is complete (adaptive sweeps) and
     /// the next values of every finished column whose crossing is not yet narrow enough
     /// (refined sweeps), and settle new jobs whose prep is already decided. Returns how many

@@ -7,7 +7,8 @@ use rusqlite::{params, Connection, ErrorCode, OpenFlags, OptionalExtension};
 
 use crate::error::{Result, StoreError};
 use crate::schema::{
-    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, READ_SCHEMAS, SCHEMA_VERSION,
+    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, MIGRATE_3_TO_4, PROGRESS, READ_SCHEMAS,
+    SCHEMA_VERSION,
 };
 
 /// A cellsweep SQLite database.
@@ -52,6 +53,7 @@ impl Store {
         store.configure()?;
         let tx = store.conn.transaction()?;
         tx.execute_batch(DDL)?;
+        tx.execute_batch(PROGRESS)?;
         tx.execute(
             "INSERT INTO meta (key, value) VALUES ('application', ?1), ('schema_version', ?2)",
             params![APPLICATION, SCHEMA_VERSION.to_string()],
@@ -155,6 +157,10 @@ impl Store {
         }
         if self.schema <= 2 {
             tx.execute_batch(MIGRATE_2_TO_3)?;
+        }
+        if self.schema <= 3 {
+            tx.execute_batch(PROGRESS)?;
+            tx.execute_batch(MIGRATE_3_TO_4)?;
         }
         tx.commit()?;
         self.schema = SCHEMA_VERSION;

@@ -277,15 +277,25 @@ fn insert_jobs(
         "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
          VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
     )?;
+    // Each point's new jobs are pending: counted into `point_progress` once per point (see
+    // schema::PROGRESS; the triggers there follow every later change).
+    let mut count = tx.prepare(
+        "INSERT INTO point_progress (point_id, solver_version, pending) VALUES (?1, ?2, ?3)
+         ON CONFLICT (point_id, solver_version) DO UPDATE SET pending = pending + excluded.pending",
+    )?;
     for (pt, &pid) in sweep.points.iter().zip(point_ids) {
+        let mut added = 0;
         for job in &pt.jobs {
-            insert.execute(params![
+            added += insert.execute(params![
                 pid,
                 job.replicate,
                 sweep.solver_version,
                 prep_ids[job.prep],
                 seed_to_sql(job.seed)
             ])?;
+        }
+        if added > 0 {
+            count.execute(params![pid, sweep.solver_version, added as i64])?;
         }
     }
     Ok(())

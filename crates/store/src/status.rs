@@ -96,44 +96,33 @@ impl Store {
     /// Progress of every sweep under every solver version it has jobs for.
     pub fn status(&self) -> Result<Vec<SweepStatus>> {
         let mut out = Vec::new();
-        let mut pairs = self.conn.prepare(
-            "SELECT DISTINCT s.id, s.name, j.solver_version FROM sweeps s
-             JOIN points p ON p.sweep_id = s.id JOIN jobs j ON j.point_id = p.id
-             ORDER BY s.id, j.solver_version",
-        )?;
+        let mut pairs = self.conn.prepare(match self.has_progress() {
+            true => {
+                "SELECT DISTINCT s.id, s.name, pp.solver_version FROM sweeps s
+                 JOIN points p ON p.sweep_id = s.id JOIN point_progress pp ON pp.point_id = p.id
+                 WHERE pp.pending + pp.running + pp.done + pp.failed > 0
+                 ORDER BY s.id, pp.solver_version"
+            }
+            false => {
+                "SELECT DISTINCT s.id, s.name, j.solver_version FROM sweeps s
+                 JOIN points p ON p.sweep_id = s.id JOIN jobs j ON j.point_id = p.id
+                 ORDER BY s.id, j.solver_version"
+            }
+        })?;
         let pairs: Vec<(i64, String, String)> = pairs
             .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
             .collect::<rusqlite::Result<_>>()?;
         for (sweep_id, name, version) in pairs {
             let jobs = self.state_counts(sweep_id, &version, None)?;
             let outcomes = self.outcome_counts(sweep_id, &version, None)?;
-            let (preps_done, preps_total): (i64, i64) = self.conn.query_row(
-                "SELECT COALESCE(SUM(state = 'done'), 0), COUNT(*) FROM preps WHERE id IN (
-                     SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
-                     WHERE p.sweep_id = ?1 AND j.solver_version = ?2)",
-                params![sweep_id, version],
-                |r| Ok((r.get(0)?, r.get(1)?)),
-            )?;
-            let last: Option<f64> = self.conn.query_row(
-                "SELECT MAX(j.finished_at) FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'done'",
-                params![sweep_id, version],
-                |r| r.get(0),
-            )?;
+            let (preps_done, preps_total) = self.prep_counts(sweep_id, &version)?;
+            let last = self.last_finished(sweep_id, &version)?;
             let jobs_per_s = match last {
-                Some(last) => {
-                    let mut q = self.conn.prepare_cached(
-                        "SELECT j.started_at, j.finished_at FROM jobs j JOIN points p ON p.id = j.point_id
-                         WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'done'
-                           AND j.finished_at >= ?3 AND j.started_at IS NOT NULL",
-                    )?;
-                    let spans: Vec<(f64, f64)> = q
-                        .query_map(params![sweep_id, version, last - WINDOW_S], |r| {
-                            Ok((r.get(0)?, r.get(1)?))
-                        })?
-                        .collect::<rusqlite::Result<_>>()?;
-                    throughput::jobs_per_s(&spans)
-                }
+                Some(last) => throughput::jobs_per_s(&self.recent_spans(
+                    sweep_id,
+                    &version,
+                    last - WINDOW_S,
+                )?),
                 None => None,
             };
             let remaining = (jobs.pending + jobs.running) as f64;
@@ -158,6 +147,24 @@ impl Store {
         version: &str,
         point: Option<i64>,
     ) -> Result<StateCounts> {
+        if self.has_progress() {
+            return Ok(self
+                .conn
+                .prepare_cached(
+                    "SELECT COALESCE(SUM(pp.pending), 0), COALESCE(SUM(pp.running), 0),
+                        COALESCE(SUM(pp.done), 0), COALESCE(SUM(pp.failed), 0)
+                 FROM point_progress pp JOIN points p ON p.id = pp.point_id
+                 WHERE p.sweep_id = ?1 AND pp.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)",
+                )?
+                .query_row(params![sweep_id, version, point], |r| {
+                    Ok(StateCounts {
+                        pending: r.get(0)?,
+                        running: r.get(1)?,
+                        done: r.get(2)?,
+                        failed: r.get(3)?,
+                    })
+                })?);
+        }
         let mut q = self.conn.prepare_cached(
             "SELECT j.state, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
              WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
@@ -206,34 +213,96 @@ impl Store {
         Ok(c)
     }
 
-    /// Outcome counts of every point of a sweep under `version`, in grid order.
+    /// Outcome counts of every point of a sweep under `version`, in grid order: one grouped
+    /// pass over the results, one over the jobs' states and one over the preps, whatever the
+    /// number of points (a query per point was quadratic at ten million jobs).
     pub fn point_counts(&self, sweep_id: i64, version: &str) -> Result<Vec<PointCounts>> {
         let mut q = self.conn.prepare(
             "SELECT id, alpha, beta, L, sigma FROM points WHERE sweep_id = ?1 ORDER BY idx",
         )?;
-        let points: Vec<(i64, f64, f64, u32, f64)> = q
+        let mut out: Vec<PointCounts> = q
             .query_map([sweep_id], |r| {
-                Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?))
+                Ok(PointCounts {
+                    point_id: r.get(0)?,
+                    alpha: r.get(1)?,
+                    beta: r.get(2)?,
+                    L: r.get(3)?,
+                    sigma: r.get(4)?,
+                    outcomes: OutcomeCounts::default(),
+                    jobs: StateCounts::default(),
+                    free_speed: None,
+                })
             })?
             .collect::<rusqlite::Result<_>>()?;
-        let mut speed = self.conn.prepare_cached(
-            "SELECT AVG(free_speed) FROM preps WHERE state = 'done' AND id IN (
-                 SELECT prep_id FROM jobs WHERE point_id = ?1 AND solver_version = ?2)",
+        let at: std::collections::HashMap<i64, usize> = out
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.point_id, i))
+            .collect();
+        let mut q = self.conn.prepare(
+            "SELECT j.point_id, r.verdict, r.outcome, COUNT(*) FROM results r
+             JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
+             WHERE p.sweep_id = ?1 AND r.solver_version = ?2
+             GROUP BY j.point_id, r.verdict, r.outcome",
         )?;
-        let mut out = Vec::with_capacity(points.len());
-        for (id, alpha, beta, l, sigma) in points {
-            out.push(PointCounts {
-                point_id: id,
-                alpha,
-                beta,
-                L: l,
-                sigma,
-                outcomes: self.outcome_counts(sweep_id, version, Some(id))?,
-                jobs: self.state_counts(sweep_id, version, Some(id))?,
-                free_speed: speed.query_row(params![id, version], |r| r.get(0))?,
-            });
+        let mut rows = q.query(params![sweep_id, version])?;
+        while let Some(r) = rows.next()? {
+            if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {
+                let outcome: Option<String> = r.get(2)?;
+                out[i]
+                    .outcomes
+                    .add(&r.get::<_, String>(1)?, outcome.as_deref(), r.get(3)?);
+            }
+        }
+        for (point, jobs) in self.point_states(sweep_id, version)? {
+            if let Some(&i) = at.get(&point) {
+                out[i].jobs = jobs;
+            }
+        }
+        let k = self.preps_per_point(sweep_id)?;
+        let mut q = self.conn.prepare(
+            "SELECT p.id, AVG(pr.free_speed) FROM points p JOIN jobs j ON j.point_id = p.id
+             JOIN preps pr ON pr.id = j.prep_id
+             WHERE p.sweep_id = ?1 AND j.replicate < ?3 AND j.solver_version = ?2
+               AND pr.state = 'done' GROUP BY p.id",
+        )?;
+        let mut rows = q.query(params![sweep_id, version, k])?;
+        while let Some(r) = rows.next()? {
+            if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {
+                out[i].free_speed = r.get(1)?;
+            }
         }
         Ok(out)
+    }
+
+    /// Each point's jobs by state (points without jobs left out).
+    fn point_states(&self, sweep_id: i64, version: &str) -> Result<Vec<(i64, StateCounts)>> {
+        let sql = match self.has_progress() {
+            true => {
+                "SELECT pp.point_id, pp.pending, pp.running, pp.done, pp.failed
+                 FROM point_progress pp JOIN points p ON p.id = pp.point_id
+                 WHERE p.sweep_id = ?1 AND pp.solver_version = ?2"
+            }
+            false => {
+                "SELECT j.point_id, SUM(j.state = 'pending'), SUM(j.state = 'running'),
+                        SUM(j.state = 'done'), SUM(j.state = 'failed')
+                 FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2 GROUP BY j.point_id"
+            }
+        };
+        let mut q = self.conn.prepare(sql)?;
+        let rows = q.query_map(params![sweep_id, version], |r| {
+            Ok((
+                r.get(0)?,
+                StateCounts {
+                    pending: r.get(1)?,
+                    running: r.get(2)?,
+                    done: r.get(3)?,
+                    failed: r.get(4)?,
+                },
+            ))
+        })?;
+        Ok(rows.collect::<rusqlite::Result<_>>()?)
     }
 }
 

@@ -1,11 +1,14 @@
 //! The work a run needs: the preps a sweep's jobs start from, and its pending jobs.
 
+use std::sync::Arc;
+
 use rusqlite::params;
 
 use crate::database::Store;
 use crate::encoding::seed_from_sql;
 use crate::error::Result;
 use crate::lifecycle::JobState;
+use crate::progress::SWEEP_PREP_IDS;
 
 /// A prep a run needs.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,19 +30,20 @@ pub struct JobTask {
     pub seed: u64,
     pub prep_id: i64,
     pub attempts: u32,
-    pub config: String,
+    /// The point's solver configuration (JSON), one copy shared by all its jobs: a run of
+    /// ten million jobs holds 96 thousand of these, not ten million.
+    pub config: Arc<str>,
 }
 
 impl Store {
     /// The preps the sweep's jobs of `version` start from, in id order.
     pub fn preps_of(&self, sweep_id: i64, version: &str) -> Result<Vec<PrepTask>> {
-        let mut q = self.conn.prepare(
+        let k = self.preps_per_point(sweep_id)?;
+        let mut q = self.conn.prepare(&format!(
             "SELECT id, seed, config, state, verdict, attempts FROM preps WHERE id IN (
-                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1 AND j.solver_version = ?2)
-             ORDER BY id",
-        )?;
-        let rows = q.query_map(params![sweep_id, version], |r| {
+                 {SWEEP_PREP_IDS}) ORDER BY id"
+        ))?;
+        let rows = q.query_map(params![sweep_id, version, k], |r| {
             let state: String = r.get(3)?;
             Ok(PrepTask {
                 id: r.get(0)?,
@@ -61,17 +65,30 @@ impl Store {
              WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'pending'
              ORDER BY p.idx, j.replicate",
         )?;
-        let rows = q.query_map(params![sweep_id, version], |r| {
-            Ok(JobTask {
+        let mut rows = q.query(params![sweep_id, version])?;
+        let mut out = Vec::new();
+        let mut config: Option<(i64, Arc<str>)> = None;
+        while let Some(r) = rows.next()? {
+            let point_id: i64 = r.get(1)?;
+            // Rows come point by point: the configuration is read once per point.
+            let shared = match &config {
+                Some((p, c)) if *p == point_id => c.clone(),
+                _ => {
+                    let c: Arc<str> = Arc::from(r.get::<_, String>(6)?);
+                    config = Some((point_id, c.clone()));
+                    c
+                }
+            };
+            out.push(JobTask {
                 id: r.get(0)?,
-                point_id: r.get(1)?,
+                point_id,
                 replicate: r.get(2)?,
                 seed: seed_from_sql(r.get(3)?),
                 prep_id: r.get(4)?,
                 attempts: r.get(5)?,
-                config: r.get(6)?,
-            })
-        })?;
-        Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
+                config: shared,
+            });
+        }
+        Ok(out)
     }
 }

@@ -284,12 +284,15 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     let id = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
     assert!(store.record_result(id, "v1", &record("train")).unwrap());
     drop(store);
-    // The layout of version 2: no attempts_at_retry.
+    // The layout of version 2: no attempts_at_retry, no point_progress.
     let sql = |q: &str| {
         let c = rusqlite::Connection::open(&path).unwrap();
         c.execute_batch(q).unwrap();
     };
-    sql("ALTER TABLE jobs DROP COLUMN attempts_at_retry;
+    sql("DROP TRIGGER jobs_progress_update;
+         DROP TRIGGER jobs_progress_delete; DROP INDEX jobs_done_by_finish;
+         DROP TABLE point_progress;
+         ALTER TABLE jobs DROP COLUMN attempts_at_retry;
          ALTER TABLE preps DROP COLUMN attempts_at_retry;
          UPDATE meta SET value = '2' WHERE key = 'schema_version';");
     let version = |p: &PathBuf| -> String {
@@ -302,11 +305,15 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
         .unwrap()
     };
     let read = Store::open_read(&path).unwrap();
-    assert_eq!(read.status().unwrap()[0].outcomes.train, 1);
+    let before = read.status().unwrap();
+    assert_eq!(before[0].outcomes.train, 1);
+    assert_eq!(before[0].jobs.done, 1);
     drop(read);
     assert_eq!(version(&path), "2", "a reader changes nothing");
     let mut store = Store::open(&path).unwrap();
-    assert_eq!(version(&path), "3");
+    assert_eq!(version(&path), "4");
+    // The counts kept since version 4 start from the jobs as they were.
+    assert_eq!(store.status().unwrap(), before);
     let j = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
     store.claim_job(j).unwrap();
     assert_eq!(
@@ -315,4 +322,85 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     );
     assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
     assert_eq!(store.status().unwrap()[0].outcomes.train, 1);
+}
+
+/// `point_progress` against a count of the jobs themselves: (point, version) -> (pending,
+/// running, done, failed, latest finish of a done job).
+fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
+    let c = rusqlite::Connection::open(path).unwrap();
+    let rows = |sql: &str| -> Vec<String> {
+        let mut q = c.prepare(sql).unwrap();
+        q.query_map([], |r| {
+            let mut v = Vec::new();
+            for i in 0..7 {
+                v.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
+            }
+            Ok(v.join(" "))
+        })
+        .unwrap()
+        .map(|r| r.unwrap())
+        .collect()
+    };
+    (
+        rows(
+            "SELECT point_id, solver_version, pending, running, done, failed, last_finished
+             FROM point_progress WHERE pending + running + done + failed > 0
+             ORDER BY point_id, solver_version",
+        ),
+        rows(
+            "SELECT point_id, solver_version, SUM(state = 'pending'), SUM(state = 'running'),
+                    SUM(state = 'done'), SUM(state = 'failed'),
+                    MAX(CASE WHEN state = 'done' THEN finished_at END)
+             FROM jobs GROUP BY point_id, solver_version ORDER BY point_id, solver_version",
+        ),
+    )
+}
+
+#[test]
+fn the_counts_kept_by_triggers_follow_every_change_of_a_job() {
+    let path = tmp("progress");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let reg = store
+        .register(&sweep_of("{\"a\":1}", "v1", 12), false)
+        .unwrap();
+    store
+        .register(&sweep_of("{\"a\":1}", "v2", 5), false)
+        .unwrap();
+    let check = |what: &str| {
+        let (kept, counted) = progress_and_jobs(&path);
+        assert_eq!(kept, counted, "after {what}");
+    };
+    check("registration");
+    let jobs = store.pending_jobs(reg.sweep_id, "v1").unwrap();
+    for (i, j) in jobs.iter().enumerate() {
+        store.claim_job(j.id).unwrap();
+        match i % 4 {
+            0 => {
+                store.record_result(j.id, "v1", &record("train")).unwrap();
+            }
+            1 => {
+                store.fail_job(j.id, 1, "crash", Some(1)).unwrap();
+            }
+            2 => {
+                store.fail_job(j.id, 1, "crash", Some(3)).unwrap();
+            }
+            _ => {}
+        }
+        check("a job's step");
+    }
+    store.recover_running(reg.sweep_id, "v1").unwrap();
+    check("recovery");
+    store.retry_failed(reg.sweep_id, "v1").unwrap();
+    check("a retry");
+    let point: i64 = rusqlite::Connection::open(&path)
+        .unwrap()
+        .query_row("SELECT id FROM points", [], |r| r.get(0))
+        .unwrap();
+    store.reset_points("v1", &[point]).unwrap();
+    check("a reset");
+    // Grown: more replicates for the same sweep.
+    store
+        .register(&sweep_of("{\"a\":1}", "v1", 20), false)
+        .unwrap();
+    check("growing");
 }

@@ -73,7 +73,7 @@ print(f"{'first dispatch (run start to it)':<34} {time.time() - start:8.2f} s")
 EOF
 t0=$(date +%s.%N)
 kill -INT "$pid"; wait "$pid" || true
-printf '%-34s %8.2f s\n' "stop on Ctrl-C (with its summary)" "$(echo "$(date +%s.%N) - $t0" | bc)"
+printf '%-34s %8.2f s\n' "stop on Ctrl-C (with its summary)" "$(python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" "$t0" "$(date +%s.%N)")"
 jobs=$(python3 -c "import sqlite3,sys; print(sqlite3.connect(sys.argv[1]).execute('SELECT COUNT(*) FROM jobs').fetchone()[0])" "$db")
 bytes=$(stat -c %s "$db")
 echo "    $jobs jobs; store $((bytes / 1000000)) MB = $((bytes / jobs)) bytes per job"

@@ -154,6 +154,31 @@ CREATE TABLE point_progress (
 
 CREATE INDEX jobs_done_by_finish ON jobs(finished_at) WHERE state = 'done';
 
+-- Each point's results by (verdict, outcome) under each solver version ('' for no outcome),
+-- kept by triggers on results (inserted once per job, deleted only by a reset).
+CREATE TABLE point_outcomes (
+    point_id       INTEGER NOT NULL REFERENCES points(id),
+    solver_version TEXT NOT NULL,
+    verdict        TEXT NOT NULL,
+    outcome        TEXT NOT NULL,
+    n              INTEGER NOT NULL,
+    PRIMARY KEY (point_id, solver_version, verdict, outcome)
+) WITHOUT ROWID;
+
+CREATE TRIGGER results_outcomes_insert AFTER INSERT ON results BEGIN
+    INSERT INTO point_outcomes (point_id, solver_version, verdict, outcome, n)
+    VALUES ((SELECT point_id FROM jobs WHERE id = new.job_id), new.solver_version,
+            new.verdict, COALESCE(new.outcome, ''), 1)
+    ON CONFLICT (point_id, solver_version, verdict, outcome) DO UPDATE SET n = n + 1;
+END;
+
+CREATE TRIGGER results_outcomes_delete AFTER DELETE ON results BEGIN
+    UPDATE point_outcomes SET n = n - 1
+    WHERE point_id = (SELECT point_id FROM jobs WHERE id = old.job_id)
+      AND solver_version = old.solver_version AND verdict = old.verdict
+      AND outcome = COALESCE(old.outcome, '');
+END;
+
 CREATE TRIGGER jobs_progress_delete AFTER DELETE ON jobs BEGIN
     UPDATE point_progress SET
         pending = pending - (old.state = 'pending'), running = running - (old.state = 'running'),
@@ -194,6 +219,10 @@ INSERT INTO point_progress (point_id, solver_version, pending, running, done, fa
          SUM(state = 'done'), SUM(state = 'failed'),
          MAX(CASE WHEN state = 'done' THEN finished_at END)
   FROM jobs GROUP BY point_id, solver_version;
+INSERT INTO point_outcomes (point_id, solver_version, verdict, outcome, n)
+  SELECT j.point_id, r.solver_version, r.verdict, COALESCE(r.outcome, ''), COUNT(*)
+  FROM results r JOIN jobs j ON j.id = r.job_id
+  GROUP BY j.point_id, r.solver_version, r.verdict, COALESCE(r.outcome, '');
 UPDATE meta SET value = '4' WHERE key = 'schema_version';
 "#;
 

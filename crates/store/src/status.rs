@@ -192,12 +192,20 @@ impl Store {
         version: &str,
         point: Option<i64>,
     ) -> Result<OutcomeCounts> {
-        let mut q = self.conn.prepare_cached(
-            "SELECT r.verdict, r.outcome, COUNT(*) FROM results r
-             JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
-             WHERE p.sweep_id = ?1 AND r.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
-             GROUP BY r.verdict, r.outcome",
-        )?;
+        let mut q = self.conn.prepare_cached(match self.has_progress() {
+            true => {
+                "SELECT po.verdict, NULLIF(po.outcome, ''), SUM(po.n) FROM point_outcomes po
+                 JOIN points p ON p.id = po.point_id
+                 WHERE p.sweep_id = ?1 AND po.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
+                 GROUP BY po.verdict, po.outcome HAVING SUM(po.n) > 0"
+            }
+            false => {
+                "SELECT r.verdict, r.outcome, COUNT(*) FROM results r
+                 JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND r.solver_version = ?2 AND (?3 IS NULL OR p.id = ?3)
+                 GROUP BY r.verdict, r.outcome"
+            }
+        })?;
         let mut c = OutcomeCounts::default();
         let rows = q.query_map(params![sweep_id, version, point], |r| {
             Ok((
@@ -239,12 +247,19 @@ impl Store {
             .enumerate()
             .map(|(i, p)| (p.point_id, i))
             .collect();
-        let mut q = self.conn.prepare(
-            "SELECT j.point_id, r.verdict, r.outcome, COUNT(*) FROM results r
-             JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
-             WHERE p.sweep_id = ?1 AND r.solver_version = ?2
-             GROUP BY j.point_id, r.verdict, r.outcome",
-        )?;
+        let mut q = self.conn.prepare(match self.has_progress() {
+            true => {
+                "SELECT po.point_id, po.verdict, NULLIF(po.outcome, ''), po.n
+                 FROM point_outcomes po JOIN points p ON p.id = po.point_id
+                 WHERE p.sweep_id = ?1 AND po.solver_version = ?2 AND po.n > 0"
+            }
+            false => {
+                "SELECT j.point_id, r.verdict, r.outcome, COUNT(*) FROM results r
+                 JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1 AND r.solver_version = ?2
+                 GROUP BY j.point_id, r.verdict, r.outcome"
+            }
+        })?;
         let mut rows = q.query(params![sweep_id, version])?;
         while let Some(r) = rows.next()? {
             if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {

@@ -291,7 +291,8 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     };
     sql("DROP TRIGGER jobs_progress_update;
          DROP TRIGGER jobs_progress_delete; DROP INDEX jobs_done_by_finish;
-         DROP TABLE point_progress;
+         DROP TABLE point_progress; DROP TRIGGER results_outcomes_insert;
+         DROP TRIGGER results_outcomes_delete; DROP TABLE point_outcomes;
          ALTER TABLE jobs DROP COLUMN attempts_at_retry;
          ALTER TABLE preps DROP COLUMN attempts_at_retry;
          UPDATE meta SET value = '2' WHERE key = 'schema_version';");
@@ -356,6 +357,34 @@ fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
     )
 }
 
+/// `point_outcomes` against a count of the results themselves.
+fn outcomes_and_results(path: &PathBuf) -> (Vec<String>, Vec<String>) {
+    let c = rusqlite::Connection::open(path).unwrap();
+    let rows = |sql: &str| -> Vec<String> {
+        let mut q = c.prepare(sql).unwrap();
+        q.query_map([], |r| {
+            let mut v = Vec::new();
+            for i in 0..5 {
+                v.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
+            }
+            Ok(v.join(" "))
+        })
+        .unwrap()
+        .map(|r| r.unwrap())
+        .collect()
+    };
+    (
+        rows(
+            "SELECT point_id, solver_version, verdict, outcome, n FROM point_outcomes
+             WHERE n > 0 ORDER BY 1, 2, 3, 4",
+        ),
+        rows(
+            "SELECT j.point_id, r.solver_version, r.verdict, COALESCE(r.outcome, ''), COUNT(*)
+             FROM results r JOIN jobs j ON j.id = r.job_id GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4",
+        ),
+    )
+}
+
 #[test]
 fn the_counts_kept_by_triggers_follow_every_change_of_a_job() {
     let path = tmp("progress");
@@ -369,6 +398,8 @@ fn the_counts_kept_by_triggers_follow_every_change_of_a_job() {
     let check = |what: &str| {
         let (kept, counted) = progress_and_jobs(&path);
         assert_eq!(kept, counted, "after {what}");
+        let (kept, counted) = outcomes_and_results(&path);
+        assert_eq!(kept, counted, "outcomes after {what}");
     };
     check("registration");
     let jobs = store.pending_jobs(reg.sweep_id, "v1").unwrap();

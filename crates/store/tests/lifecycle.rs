@@ -325,62 +325,58 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     assert_eq!(store.status().unwrap()[0].outcomes.train, 1);
 }
 
+/// The rows of `sql` (its first `cols` columns), each as one line of text.
+fn rows_of(path: &PathBuf, sql: &str, cols: usize) -> Vec<String> {
+    let c = rusqlite::Connection::open(path).unwrap();
+    let mut q = c.prepare(sql).unwrap();
+    q.query_map([], |r| {
+        let mut v = Vec::new();
+        for i in 0..cols {
+            v.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
+        }
+        Ok(v.join(" "))
+    })
+    .unwrap()
+    .map(|r| r.unwrap())
+    .collect()
+}
+
 /// `point_progress` against a count of the jobs themselves: (point, version) -> (pending,
 /// running, done, failed, latest finish of a done job).
 fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
-    let c = rusqlite::Connection::open(path).unwrap();
-    let rows = |sql: &str| -> Vec<String> {
-        let mut q = c.prepare(sql).unwrap();
-        q.query_map([], |r| {
-            let mut v = Vec::new();
-            for i in 0..7 {
-                v.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
-            }
-            Ok(v.join(" "))
-        })
-        .unwrap()
-        .map(|r| r.unwrap())
-        .collect()
-    };
     (
-        rows(
+        rows_of(
+            path,
             "SELECT point_id, solver_version, pending, running, done, failed, last_finished
              FROM point_progress WHERE pending + running + done + failed > 0
              ORDER BY point_id, solver_version",
+            7,
         ),
-        rows(
+        rows_of(
+            path,
             "SELECT point_id, solver_version, SUM(state = 'pending'), SUM(state = 'running'),
                     SUM(state = 'done'), SUM(state = 'failed'),
                     MAX(CASE WHEN state = 'done' THEN finished_at END)
              FROM jobs GROUP BY point_id, solver_version ORDER BY point_id, solver_version",
+            7,
         ),
     )
 }
 
 /// `point_outcomes` against a count of the results themselves.
 fn outcomes_and_results(path: &PathBuf) -> (Vec<String>, Vec<String>) {
-    let c = rusqlite::Connection::open(path).unwrap();
-    let rows = |sql: &str| -> Vec<String> {
-        let mut q = c.prepare(sql).unwrap();
-        q.query_map([], |r| {
-            let mut v = Vec::new();
-            for i in 0..5 {
-                v.push(format!("{:?}", r.get::<_, rusqlite::types::Value>(i)?));
-            }
-            Ok(v.join(" "))
-        })
-        .unwrap()
-        .map(|r| r.unwrap())
-        .collect()
-    };
     (
-        rows(
+        rows_of(
+            path,
             "SELECT point_id, solver_version, verdict, outcome, n FROM point_outcomes
              WHERE n > 0 ORDER BY 1, 2, 3, 4",
+            5,
         ),
-        rows(
+        rows_of(
+            path,
             "SELECT j.point_id, r.solver_version, r.verdict, COALESCE(r.outcome, ''), COUNT(*)
              FROM results r JOIN jobs j ON j.id = r.job_id GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4",
+            5,
         ),
     )
 }

@@ -123,6 +123,9 @@ fn a_killed_refinement_resumes_and_the_order_of_results_changes_nothing() {
     let l2 = open(&mut killed, &sweep);
     drive(&mut killed, &l2, true, 500);
     let l2 = open(&mut killed, &sweep);
+    killed
+        .materialize_next(l2.sweep_id, SOLVER_VERSION, 1)
+        .unwrap();
     let job = killed.pending_jobs(l2.sweep_id, SOLVER_VERSION).unwrap()[0].clone();
     killed.claim_job(job.id).unwrap();
     drop(l2);

@@ -373,7 +373,10 @@ fn a_crashed_worker_is_retried_and_a_persistent_crash_is_recorded() {
     );
     let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
     assert_eq!(v[0]["failures"][0]["id"], 2);
-    assert_eq!(v[0]["failures"][0]["replicate"], 1);
+    assert_eq!(
+        v[0]["failures"][0]["replicate"],
+        db_query(&db2, "SELECT replicate FROM jobs WHERE id = 2")
+    );
     // --retry-failed runs it again (without the fault now): every job counted once, exit 0.
     let out = cellsweep(
         &[

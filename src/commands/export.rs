@@ -188,6 +188,8 @@ fn import_into(
     targets: &[u32],
 ) -> anyhow::Result<(usize, usize)> {
     let reg = store.register(&plan_targets(sweep, file, points, &|i| targets[i]), false)?;
+    // Rows are checked against the jobs they claim: every planned job becomes a row first.
+    store.materialize_next(reg.sweep_id, SOLVER_VERSION, usize::MAX)?;
     let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;
     compute_preps(store, &ledger, reg.sweep_id, rows)?;
     let defaults = serde_json::to_value(Params::default())?;

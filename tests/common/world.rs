@@ -103,6 +103,8 @@ pub fn drive(store: &mut Store, ledger: &Ledger, reverse: bool, limit: usize) ->
                 }
             }
         }
+        // As an engine does: the planned jobs become rows before they are listed.
+        store.materialize_next(id, &v, usize::MAX).unwrap();
         let mut jobs = store.pending_jobs(id, &v).unwrap();
         if jobs.is_empty() {
             if ledger.plan_rounds(store).unwrap() == 0 {

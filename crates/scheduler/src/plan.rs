@@ -117,6 +117,7 @@ pub fn plan_targets(
         spec: sweep.canonical_json(),
         source: source.to_string(),
         solver_version: SOLVER_VERSION.to_string(),
+        preps_per_point: sweep.preps_per_point,
         preps,
         points: rows,
     }

@@ -7,8 +7,8 @@ use rusqlite::{params, Connection, ErrorCode, OpenFlags, OptionalExtension};
 
 use crate::error::{Result, StoreError};
 use crate::schema::{
-    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, MIGRATE_3_TO_4, PROGRESS, READ_SCHEMAS,
-    SCHEMA_VERSION,
+    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, MIGRATE_3_TO_4, MIGRATE_4_TO_5, PLANS,
+    PROGRESS, READ_SCHEMAS, SCHEMA_VERSION,
 };
 
 /// A cellsweep SQLite database.
@@ -54,6 +54,7 @@ impl Store {
         let tx = store.conn.transaction()?;
         tx.execute_batch(DDL)?;
         tx.execute_batch(PROGRESS)?;
+        tx.execute_batch(PLANS)?;
         tx.execute(
             "INSERT INTO meta (key, value) VALUES ('application', ?1), ('schema_version', ?2)",
             params![APPLICATION, SCHEMA_VERSION.to_string()],
@@ -162,6 +163,10 @@ impl Store {
             tx.execute_batch(PROGRESS)?;
             tx.execute_batch(MIGRATE_3_TO_4)?;
         }
+        if self.schema <= 4 {
+            tx.execute_batch(PLANS)?;
+            tx.execute_batch(MIGRATE_4_TO_5)?;
+        }
         tx.commit()?;
         self.schema = SCHEMA_VERSION;
         Ok(())
@@ -221,8 +226,11 @@ impl Store {
         // Another writer holding the database (a backup, a query tool) is waited on, up to a
         // minute, before an operation fails.
         self.conn.busy_timeout(std::time::Duration::from_secs(60))?;
-        self.conn
-            .execute_batch("PRAGMA foreign_keys = ON; PRAGMA synchronous = NORMAL;")?;
+        // Temporary files (the statement journals of nested savepoints, which `collect` opens
+        // for each record it commits inside a file's transaction) in memory, not on disk.
+        self.conn.execute_batch(
+            "PRAGMA foreign_keys = ON; PRAGMA synchronous = NORMAL; PRAGMA temp_store = MEMORY;",
+        )?;
         Ok(())
     }
 

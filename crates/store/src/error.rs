@@ -59,6 +59,8 @@ pub enum StoreError {
         found: String,
         expected: &'static str,
     },
+    #[error("the jobs of point {point_id} cannot be planned: {why}")]
+    Unplannable { point_id: i64, why: String },
     #[error("database error: {0}")]
     Sql(#[from] rusqlite::Error),
     #[error("stored JSON is malformed: {0}")]

@@ -42,27 +42,27 @@ pub struct PrepIdentity {
 impl Store {
     /// The identity of job `id`, if it exists.
     pub fn job_identity(&self, id: i64) -> Result<Option<JobIdentity>> {
+        // Cached statements: `collect` asks this for every record it takes in.
         Ok(self
             .conn
-            .query_row(
+            .prepare_cached(
                 "SELECT p.sweep_id, j.solver_version, j.seed, j.prep_id, j.state, p.params,
                         CASE WHEN pr.state = 'done' THEN pr.verdict END
                  FROM jobs j JOIN points p ON p.id = j.point_id JOIN preps pr ON pr.id = j.prep_id
                  WHERE j.id = ?1",
-                [id],
-                |r| {
-                    let state: String = r.get(4)?;
-                    Ok(JobIdentity {
-                        sweep_id: r.get(0)?,
-                        solver_version: r.get(1)?,
-                        seed: seed_from_sql(r.get(2)?),
-                        prep_id: r.get(3)?,
-                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
-                        config: r.get(5)?,
-                        prep_verdict: r.get(6)?,
-                    })
-                },
-            )
+            )?
+            .query_row([id], |r| {
+                let state: String = r.get(4)?;
+                Ok(JobIdentity {
+                    sweep_id: r.get(0)?,
+                    solver_version: r.get(1)?,
+                    seed: seed_from_sql(r.get(2)?),
+                    prep_id: r.get(3)?,
+                    state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                    config: r.get(5)?,
+                    prep_verdict: r.get(6)?,
+                })
+            })
             .optional()?)
     }
 
@@ -70,23 +70,22 @@ impl Store {
     pub fn prep_identity(&self, id: i64, sweep_id: i64) -> Result<Option<PrepIdentity>> {
         Ok(self
             .conn
-            .query_row(
+            .prepare_cached(
                 "SELECT seed, solver_version, state, config, EXISTS (
                      SELECT 1 FROM jobs j JOIN points p ON p.id = j.point_id
                      WHERE j.prep_id = preps.id AND p.sweep_id = ?2)
                  FROM preps WHERE id = ?1",
-                params![id, sweep_id],
-                |r| {
-                    let state: String = r.get(2)?;
-                    Ok(PrepIdentity {
-                        seed: seed_from_sql(r.get(0)?),
-                        solver_version: r.get(1)?,
-                        state: JobState::parse(&state).unwrap_or(JobState::Failed),
-                        config: r.get(3)?,
-                        used_by_sweep: r.get(4)?,
-                    })
-                },
-            )
+            )?
+            .query_row(params![id, sweep_id], |r| {
+                let state: String = r.get(2)?;
+                Ok(PrepIdentity {
+                    seed: seed_from_sql(r.get(0)?),
+                    solver_version: r.get(1)?,
+                    state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                    config: r.get(3)?,
+                    used_by_sweep: r.get(4)?,
+                })
+            })
             .optional()?)
     }
 
@@ -121,12 +120,23 @@ impl Store {
     /// Jobs registered per point of a sweep under `version`, and how many of them are still
     /// open (pending or running), by point index.
     pub fn jobs_per_point(&self, sweep_id: i64, version: &str) -> Result<Vec<PointJobs>> {
-        let mut q = self.conn.prepare(
-            "SELECT p.idx, COUNT(j.id), COUNT(CASE WHEN j.state IN ('pending', 'running') THEN 1 END)
-             FROM points p
-             LEFT JOIN jobs j ON j.point_id = p.id AND j.solver_version = ?2
-             WHERE p.sweep_id = ?1 GROUP BY p.id ORDER BY p.idx",
-        )?;
+        // Planned jobs (schema 5) are counted pending in `point_progress` but have no row yet.
+        let mut q = self.conn.prepare(match self.has_progress() {
+            true => {
+                "SELECT p.idx, COALESCE(pp.pending + pp.running + pp.done + pp.failed, 0),
+                        COALESCE(pp.pending + pp.running, 0)
+                 FROM points p
+                 LEFT JOIN point_progress pp ON pp.point_id = p.id AND pp.solver_version = ?2
+                 WHERE p.sweep_id = ?1 ORDER BY p.idx"
+            }
+            false => {
+                "SELECT p.idx, COUNT(j.id),
+                        COUNT(CASE WHEN j.state IN ('pending', 'running') THEN 1 END)
+                 FROM points p
+                 LEFT JOIN jobs j ON j.point_id = p.id AND j.solver_version = ?2
+                 WHERE p.sweep_id = ?1 GROUP BY p.id ORDER BY p.idx"
+            }
+        })?;
         let rows = q.query_map(params![sweep_id, version], |r| {
             Ok((
                 r.get::<_, i64>(0)?,

@@ -14,6 +14,7 @@ pub mod error;
 pub mod export;
 pub mod identity;
 pub mod lifecycle;
+mod plans;
 mod progress;
 pub mod record;
 mod register;

@@ -49,11 +49,12 @@ impl Store {
     pub fn record_result(&mut self, job_id: i64, version: &str, r: &ResultRecord) -> Result<bool> {
         let tx = self.write()?;
         let t = now();
-        let n = tx.execute(
-            "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL
-             WHERE id = ?1 AND state IN ('pending', 'running', 'failed') AND solver_version = ?3",
-            params![job_id, t, version],
-        )?;
+        let n = tx
+            .prepare_cached(
+                "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL
+                 WHERE id = ?1 AND state IN ('pending', 'running', 'failed') AND solver_version = ?3",
+            )?
+            .execute(params![job_id, t, version])?;
         if n == 0 {
             return Ok(false);
         }
@@ -119,6 +120,7 @@ impl Store {
         r: &ResultRecord,
     ) -> Result<usize> {
         let tx = self.write()?;
+        crate::plans::materialize_prep(&tx, sweep_id, prep_id, version)?;
         let ids: Vec<i64> = {
             let mut q = tx.prepare(
                 "SELECT j.id FROM jobs j JOIN points p ON p.id = j.point_id
@@ -129,10 +131,8 @@ impl Store {
         };
         let t = now();
         for &id in &ids {
-            tx.execute(
-                "UPDATE jobs SET state = 'done', finished_at = ?2 WHERE id = ?1",
-                params![id, t],
-            )?;
+            tx.prepare_cached("UPDATE jobs SET state = 'done', finished_at = ?2 WHERE id = ?1")?
+                .execute(params![id, t])?;
             insert_result(&tx, id, version, r, t)?;
         }
         tx.commit()?;
@@ -151,12 +151,14 @@ fn insert_result(
         Some([a, b]) => (Some(a.as_str()), Some(b.as_str())),
         None => (None, None),
     };
-    tx.execute(
+    // Cached: one statement for every result a run or a `collect` commits.
+    tx.prepare_cached(
         "INSERT INTO results (job_id, solver_version, verdict, outcome, contact_time, decision_time,
              free_speed, threshold_speed, attachment_1, attachment_2, collision_steps, wall_s,
              classifier, record, finished_at, breakup_reason)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)",
-        params![
+    )?
+    .execute(params![
             job_id,
             version,
             r.verdict,

@@ -8,6 +8,7 @@ use rusqlite::{params, OptionalExtension};
 use crate::database::Store;
 use crate::encoding::{now, point_others, seed_to_sql};
 use crate::error::{Result, StoreError};
+use crate::plans::plan_point_jobs;
 
 /// A sweep to register: its points, their jobs, and the preps they start from.
 #[derive(Debug, Clone)]
@@ -17,6 +18,8 @@ pub struct NewSweep {
     pub spec: String,
     pub source: String,
     pub solver_version: String,
+    /// Preps per point: replicate r of a point starts from the prep of replicate r mod this.
+    pub preps_per_point: u32,
     pub preps: Vec<NewPrep>,
     pub points: Vec<NewPoint>,
 }
@@ -265,18 +268,15 @@ fn insert_preps(tx: &rusqlite::Connection, sweep: &NewSweep) -> Result<Vec<i64>>
     Ok(prep_ids)
 }
 
-/// The jobs not yet stored (a resumed sweep's are kept as they are; a grown one gains its new
-/// replicates), at the points `point_ids` gives.
+/// The jobs not yet registered (a resumed sweep's are kept as they are; a grown one gains its
+/// new replicates), at the points `point_ids` gives: planned, with one row per prep slot of
+/// each point (see [`crate::schema::PLANS`]).
 fn insert_jobs(
     tx: &rusqlite::Connection,
     sweep: &NewSweep,
     point_ids: &[i64],
     prep_ids: &[i64],
 ) -> Result<()> {
-    let mut insert = tx.prepare(
-        "INSERT OR IGNORE INTO jobs (point_id, replicate, solver_version, prep_id, seed, state)
-         VALUES (?1, ?2, ?3, ?4, ?5, 'pending')",
-    )?;
     // Each point's new jobs are pending: counted into `point_progress` once per point (see
     // schema::PROGRESS; the triggers there follow every later change).
     let mut count = tx.prepare(
@@ -284,16 +284,14 @@ fn insert_jobs(
          ON CONFLICT (point_id, solver_version) DO UPDATE SET pending = pending + excluded.pending",
     )?;
     for (pt, &pid) in sweep.points.iter().zip(point_ids) {
-        let mut added = 0;
-        for job in &pt.jobs {
-            added += insert.execute(params![
-                pid,
-                job.replicate,
-                sweep.solver_version,
-                prep_ids[job.prep],
-                seed_to_sql(job.seed)
-            ])?;
-        }
+        let added = plan_point_jobs(
+            tx,
+            pid,
+            &sweep.solver_version,
+            sweep.preps_per_point,
+            &pt.jobs,
+            prep_ids,
+        )?;
         if added > 0 {
             count.execute(params![pid, sweep.solver_version, added as i64])?;
         }

@@ -8,11 +8,16 @@
 /// and read as it is by the readers. Version 4 keeps each point's jobs counted by state
 /// (`point_progress`, kept by triggers in the same transaction as every change to `jobs`) and
 /// indexes finished jobs by time, so that `status` reads ten million jobs in milliseconds
-/// ([`MIGRATE_3_TO_4`]).
-pub const SCHEMA_VERSION: u32 = 4;
+/// ([`MIGRATE_3_TO_4`]). Version 5 stores a point's jobs as a plan until they are needed
+/// ([`PLANS`]): registering ten million jobs writes one row per point, not one per job
+/// ([`MIGRATE_4_TO_5`]).
+pub const SCHEMA_VERSION: u32 = 5;
 
 /// Versions a reader opens as they are.
-pub const READ_SCHEMAS: [u32; 4] = [1, 2, 3, 4];
+pub const READ_SCHEMAS: [u32; 5] = [1, 2, 3, 4, 5];
+
+/// The first layout with `point_plans`: every version before it holds a row for every job.
+pub const PLANS_SCHEMA: u32 = 5;
 
 /// The first layout with `point_progress`: readers of older files count `jobs` instead.
 pub const PROGRESS_SCHEMA: u32 = 4;
@@ -209,6 +214,41 @@ ON jobs BEGIN
         last_finished = MAX(COALESCE(last_finished, excluded.last_finished),
                             COALESCE(excluded.last_finished, last_finished));
 END;
+"#;
+
+/// A point's jobs, planned (since version 5). Registration writes a row of `jobs` for the
+/// first replicates only, one per prep of the point (so every prep a point uses is reached
+/// through `jobs`, as before), and plans the rest here: replicates `materialized..planned`
+/// exist only as their seeds (8 bytes each, little-endian, in replicate order; replicate r
+/// starts from the prep of replicate r mod `cycle`, SPEC section 4's round-robin). They are
+/// counted `pending` in `point_progress` from registration on, and become rows of `jobs`
+/// (pending, in one write, the whole tail of a point at once) when a run is about to dispatch
+/// them, a Slurm submission lists them, an import or a prep's verdict settles them
+/// ([`crate::Store::materialize_next`]). Rows of `jobs` always hold replicates
+/// `0..materialized` of a point, so that a plan is a prefix and a tail.
+pub const PLANS: &str = r#"
+CREATE TABLE point_plans (
+    id             INTEGER PRIMARY KEY,
+    point_id       INTEGER NOT NULL REFERENCES points(id),
+    solver_version TEXT NOT NULL,
+    planned        INTEGER NOT NULL,
+    materialized   INTEGER NOT NULL,
+    cycle          INTEGER NOT NULL,
+    seeds          BLOB NOT NULL,
+    UNIQUE (point_id, solver_version)
+);
+
+-- The plans with jobs still to write, by point (in a sweep's grid order).
+CREATE INDEX point_plans_open ON point_plans(point_id, solver_version)
+    WHERE planned > materialized;
+"#;
+
+/// Version 4 to 5: [`PLANS`], every job of a store before it being a row already.
+pub const MIGRATE_4_TO_5: &str = r#"
+INSERT INTO point_plans (point_id, solver_version, planned, materialized, cycle, seeds)
+  SELECT point_id, solver_version, MAX(replicate) + 1, MAX(replicate) + 1, 1, X''
+  FROM jobs GROUP BY point_id, solver_version;
+UPDATE meta SET value = '5' WHERE key = 'schema_version';
 "#;
 
 /// Version 3 to 4: [`PROGRESS`], with every point's counts taken from its jobs.

@@ -57,7 +57,8 @@ impl Store {
         Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
     }
 
-    /// The sweep's pending jobs of `version`, in (point, replicate) order.
+    /// The sweep's pending jobs of `version` that are rows, in (point, replicate) order: those
+    /// still planned (schema 5) are not listed until [`Store::materialize_next`] writes them.
     pub fn pending_jobs(&self, sweep_id: i64, version: &str) -> Result<Vec<JobTask>> {
         let mut q = self.conn.prepare(
             "SELECT j.id, j.point_id, j.replicate, j.seed, j.prep_id, j.attempts, p.params

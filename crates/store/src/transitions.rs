@@ -169,7 +169,9 @@ impl Store {
         version: &str,
         error: &str,
     ) -> Result<usize> {
-        Ok(self.conn.execute(
+        let tx = self.write()?;
+        crate::plans::materialize_prep(&tx, sweep_id, prep_id, version)?;
+        let n = tx.execute(
             "UPDATE jobs SET state = 'failed', error = ?4
              WHERE prep_id = ?2 AND solver_version = ?3 AND state = 'pending'
                AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
@@ -179,6 +181,8 @@ impl Store {
                 version,
                 format!("its prep failed: {error}")
             ],
-        )?)
+        )?;
+        tx.commit()?;
+        Ok(n)
     }
 }

@@ -23,6 +23,7 @@ fn sweep_of(spec: &str, version: &str, replicates: u32) -> NewSweep {
         spec: spec.into(),
         source: "s.toml".into(),
         solver_version: version.into(),
+        preps_per_point: 1,
         preps: vec![NewPrep {
             key: "k".into(),
             seed: u64::MAX - 3,
@@ -44,6 +45,15 @@ fn sweep_of(spec: &str, version: &str, replicates: u32) -> NewSweep {
                 .collect(),
         }],
     }
+}
+
+/// The sweep's pending jobs under `version`, its planned ones written as rows first (as a run
+/// does before it dispatches them).
+fn pending(store: &mut Store, sweep_id: i64, version: &str) -> Vec<cellsweep_store::JobTask> {
+    store
+        .materialize_next(sweep_id, version, usize::MAX)
+        .unwrap();
+    store.pending_jobs(sweep_id, version).unwrap()
 }
 
 fn record(outcome: &str) -> ResultRecord {
@@ -98,7 +108,7 @@ fn a_job_goes_pending_running_done_exactly_once() {
     let mut store = Store::open_or_create(&path).unwrap();
     let reg = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
     assert!(reg.created);
-    let jobs = store.pending_jobs(reg.sweep_id, "v1").unwrap();
+    let jobs = pending(&mut store, reg.sweep_id, "v1");
     assert_eq!(jobs.len(), 3);
     assert_eq!(jobs[0].seed, 1000);
     let preps = store.preps_of(reg.sweep_id, "v1").unwrap();
@@ -125,7 +135,7 @@ fn a_job_goes_pending_running_done_exactly_once() {
             .unwrap(),
         "never under another solver version"
     );
-    assert_eq!(store.pending_jobs(reg.sweep_id, "v1").unwrap().len(), 2);
+    assert_eq!(pending(&mut store, reg.sweep_id, "v1").len(), 2);
 
     // Failures: retried until the limit, then failed with the error. Each attempt counts
     // once, however often its record is read (a Slurm results file is read at every collect),
@@ -188,15 +198,15 @@ fn sweeps_and_solver_versions_stay_apart() {
     // Same definition again: found, nothing duplicated.
     let again = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
     assert_eq!((again.sweep_id, again.created), (a.sweep_id, false));
-    assert_eq!(store.pending_jobs(a.sweep_id, "v1").unwrap().len(), 3);
-    let j = store.pending_jobs(a.sweep_id, "v1").unwrap()[0].id;
+    assert_eq!(pending(&mut store, a.sweep_id, "v1").len(), 3);
+    let j = pending(&mut store, a.sweep_id, "v1")[0].id;
     store.claim_job(j).unwrap();
     assert!(store.record_result(j, "v1", &record("train")).unwrap());
 
     // A new solver version gets its own jobs and preps; the old results are reported, not mixed.
     let v2 = store.register(&sweep("{\"a\":1}", "v2"), false).unwrap();
     assert_eq!(v2.other_versions, vec![("v1".to_string(), 1)]);
-    assert_eq!(store.pending_jobs(a.sweep_id, "v2").unwrap().len(), 3);
+    assert_eq!(pending(&mut store, a.sweep_id, "v2").len(), 3);
     let counts = store.point_counts(a.sweep_id, "v2").unwrap();
     assert_eq!(counts[0].outcomes.train, 0);
     assert_eq!(
@@ -225,7 +235,7 @@ fn a_sweep_grows_its_replicates_but_never_shrinks() {
     let spec = |n: u32| format!("{{\"name\":\"s\",\"replicates\":{n},\"seed\":7}}");
     let a = store.register(&sweep_of(&spec(3), "v1", 3), false).unwrap();
     assert_eq!(a.grown_from, None);
-    let jobs = store.pending_jobs(a.sweep_id, "v1").unwrap();
+    let jobs = pending(&mut store, a.sweep_id, "v1");
     for j in &jobs[..2] {
         store.claim_job(j.id).unwrap();
         assert!(store.record_result(j.id, "v1", &record("train")).unwrap());
@@ -238,7 +248,7 @@ fn a_sweep_grows_its_replicates_but_never_shrinks() {
         (a.sweep_id, false, Some(3))
     );
     assert!(g.archived_as.is_none());
-    let pending = store.pending_jobs(a.sweep_id, "v1").unwrap();
+    let pending = pending(&mut store, a.sweep_id, "v1");
     let mut seeds: Vec<u64> = pending.iter().map(|j| j.seed).collect();
     seeds.sort_unstable();
     assert_eq!(seeds, vec![1002, 1003, 1004]);
@@ -281,7 +291,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     let path = tmp("migrate");
     let mut store = Store::open_or_create(&path).unwrap();
     let reg = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
-    let id = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
+    let id = pending(&mut store, reg.sweep_id, "v1")[0].id;
     assert!(store.record_result(id, "v1", &record("train")).unwrap());
     drop(store);
     // The layout of version 2: no attempts_at_retry, no point_progress.
@@ -295,6 +305,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
          DROP TRIGGER results_outcomes_delete; DROP TABLE point_outcomes;
          ALTER TABLE jobs DROP COLUMN attempts_at_retry;
          ALTER TABLE preps DROP COLUMN attempts_at_retry;
+         DROP INDEX point_plans_open; DROP TABLE point_plans;
          UPDATE meta SET value = '2' WHERE key = 'schema_version';");
     let version = |p: &PathBuf| -> String {
         let c = rusqlite::Connection::open(p).unwrap();
@@ -312,10 +323,10 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     drop(read);
     assert_eq!(version(&path), "2", "a reader changes nothing");
     let mut store = Store::open(&path).unwrap();
-    assert_eq!(version(&path), "4");
+    assert_eq!(version(&path), "5");
     // The counts kept since version 4 start from the jobs as they were.
     assert_eq!(store.status().unwrap(), before);
-    let j = store.pending_jobs(reg.sweep_id, "v1").unwrap()[0].id;
+    let j = pending(&mut store, reg.sweep_id, "v1")[0].id;
     store.claim_job(j).unwrap();
     assert_eq!(
         store.fail_job(j, 1, "crash", Some(1)).unwrap(),
@@ -354,10 +365,14 @@ fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
         ),
         rows_of(
             path,
-            "SELECT point_id, solver_version, SUM(state = 'pending'), SUM(state = 'running'),
-                    SUM(state = 'done'), SUM(state = 'failed'),
-                    MAX(CASE WHEN state = 'done' THEN finished_at END)
-             FROM jobs GROUP BY point_id, solver_version ORDER BY point_id, solver_version",
+            "SELECT j.point_id, j.solver_version,
+                    SUM(j.state = 'pending') + COALESCE((SELECT pl.planned - pl.materialized
+                        FROM point_plans pl WHERE pl.point_id = j.point_id
+                          AND pl.solver_version = j.solver_version), 0),
+                    SUM(j.state = 'running'), SUM(j.state = 'done'), SUM(j.state = 'failed'),
+                    MAX(CASE WHEN j.state = 'done' THEN j.finished_at END)
+             FROM jobs j GROUP BY j.point_id, j.solver_version
+             ORDER BY j.point_id, j.solver_version",
             7,
         ),
     )
@@ -398,7 +413,7 @@ fn the_counts_kept_by_triggers_follow_every_change_of_a_job() {
         assert_eq!(kept, counted, "outcomes after {what}");
     };
     check("registration");
-    let jobs = store.pending_jobs(reg.sweep_id, "v1").unwrap();
+    let jobs = pending(&mut store, reg.sweep_id, "v1");
     for (i, j) in jobs.iter().enumerate() {
         store.claim_job(j.id).unwrap();
         match i % 4 {
@@ -430,4 +445,124 @@ fn the_counts_kept_by_triggers_follow_every_change_of_a_job() {
         .register(&sweep_of("{\"a\":1}", "v1", 20), false)
         .unwrap();
     check("growing");
+}
+
+/// Two points with `replicates` jobs each, from three preps per point in turn (SPEC section 4),
+/// replicate r of point i seeded 1000 i + r.
+fn three_prep_sweep(replicates: u32) -> NewSweep {
+    let prep = |i: u64| NewPrep {
+        key: format!("k{}", i / 3),
+        seed: 50 + i,
+        config: "{}".into(),
+    };
+    let point = |i: usize, beta: f64| NewPoint {
+        alpha: 0.1,
+        beta,
+        spacing: 90,
+        sigma: 5.0,
+        others: Default::default(),
+        config: "{}".into(),
+        jobs: (0..replicates)
+            .map(|r| NewJob {
+                replicate: r,
+                seed: 1000 * i as u64 + r as u64,
+                prep: 3 * i + (r % 3) as usize,
+            })
+            .collect(),
+    };
+    NewSweep {
+        name: "plans".into(),
+        spec: format!("{{\"replicates\":{replicates},\"preps_per_point\":3}}"),
+        source: "plans.toml".into(),
+        solver_version: "v1".into(),
+        preps_per_point: 3,
+        preps: (0..6).map(prep).collect(),
+        points: vec![point(0, 10.0), point(1, 14.0)],
+    }
+}
+
+#[test]
+fn planned_jobs_are_pending_from_registration_and_become_the_very_rows_registered() {
+    let path = tmp("plans");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let reg = store.register(&three_prep_sweep(10), false).unwrap();
+    let count = |sql: &str| -> i64 {
+        rusqlite::Connection::open(&path)
+            .unwrap()
+            .query_row(sql, [], |r| r.get(0))
+            .unwrap()
+    };
+    // One row per prep slot of each point; the other 14 jobs planned, and pending all the same.
+    assert_eq!(count("SELECT COUNT(*) FROM jobs"), 6);
+    assert_eq!(store.planned_jobs(reg.sweep_id, "v1").unwrap(), 14);
+    assert_eq!(store.status().unwrap()[0].jobs.pending, 20);
+    assert_eq!(store.preps_of(reg.sweep_id, "v1").unwrap().len(), 6);
+    let (kept, counted) = progress_and_jobs(&path);
+    assert_eq!(kept, counted);
+
+    // A run asks for a few: the first point's whole tail is written, the second stays planned.
+    assert_eq!(store.materialize_next(reg.sweep_id, "v1", 1).unwrap(), 7);
+    assert_eq!(store.planned_jobs(reg.sweep_id, "v1").unwrap(), 7);
+    assert_eq!(count("SELECT COUNT(*) FROM jobs"), 13);
+    // A prep's verdict reaches its jobs at every point: the second point's tail is written too.
+    let prep_of_point_1: i64 = count("SELECT MIN(id) FROM preps WHERE key = 'k1'");
+    let failed = store
+        .fail_jobs_of_prep(reg.sweep_id, prep_of_point_1, "v1", "boom")
+        .unwrap();
+    assert_eq!(failed, 4, "replicates 0, 3, 6 and 9 of the second point");
+    assert_eq!(store.planned_jobs(reg.sweep_id, "v1").unwrap(), 0);
+    assert_eq!(store.materialize_next(reg.sweep_id, "v1", 1).unwrap(), 0);
+
+    // Every row is the job registered: its seed, and the prep of its slot.
+    let rows = rows_of(
+        &path,
+        "SELECT p.beta, j.replicate, j.seed, pr.seed FROM jobs j JOIN points p ON p.id = j.point_id
+         JOIN preps pr ON pr.id = j.prep_id ORDER BY p.idx, j.replicate",
+        4,
+    );
+    let expected: Vec<String> = (0..2u64)
+        .flat_map(|i| {
+            (0..10u64).map(move |r| {
+                format!(
+                    "Real({:?}) Integer({}) Integer({}) Integer({})",
+                    10.0 + 4.0 * i as f64,
+                    r,
+                    1000 * i + r,
+                    50 + 3 * i + r % 3
+                )
+            })
+        })
+        .collect();
+    assert_eq!(rows, expected);
+    let (kept, counted) = progress_and_jobs(&path);
+    assert_eq!(kept, counted);
+
+    // Grown to 14: four more per point, planned, then written with the same rule.
+    store.register(&three_prep_sweep(14), false).unwrap();
+    assert_eq!(store.planned_jobs(reg.sweep_id, "v1").unwrap(), 8);
+    assert_eq!(store.status().unwrap()[0].jobs.pending, 20 - 4 + 8);
+    assert_eq!(
+        store
+            .materialize_next(reg.sweep_id, "v1", usize::MAX)
+            .unwrap(),
+        8
+    );
+    assert_eq!(
+        rows_of(
+            &path,
+            "SELECT j.seed, pr.seed FROM jobs j JOIN preps pr ON pr.id = j.prep_id
+             WHERE j.replicate = 13 ORDER BY j.point_id",
+            2,
+        ),
+        vec!["Integer(13) Integer(51)", "Integer(1013) Integer(54)"]
+    );
+    let (kept, counted) = progress_and_jobs(&path);
+    assert_eq!(kept, counted);
+
+    // Jobs that are not replicates 0..n in the round-robin of their preps are refused.
+    let mut odd = three_prep_sweep(14);
+    odd.name = "odd".into();
+    odd.points[0].jobs[5].prep = 0;
+    let e = store.register(&odd, false).unwrap_err();
+    assert!(matches!(e, StoreError::Unplannable { .. }), "{e}");
 }

@@ -15,6 +15,9 @@ use crate::ledger::{Failure, Ledger, Settlement, TaskRef};
 use crate::wire::{PrepPayload, Request, Response};
 use crate::worker::remember;
 
+/// Jobs a run keeps queued ahead of its workers (written as rows of the store just before).
+const LOOKAHEAD: usize = 2048;
+
 pub(super) enum Busy {
     Prep(PrepTask),
     Job(JobTask),
@@ -49,9 +52,15 @@ pub(super) struct Run<'a> {
     pub(super) ready: VecDeque<JobTask>,
     /// Every job this run has queued, so that a new round's jobs are queued once.
     queued: HashSet<i64>,
+    /// Whether the store may still hold planned jobs of the sweep that are not rows yet (see
+    /// [`Run::top_up`]).
+    planned_left: bool,
     /// Preps known to be decided `ok` (their jobs go straight to `ready`).
     ok_preps: HashSet<i64>,
-    payloads: HashMap<i64, PrepPayload>,
+    /// The latest preps' fields, to send with a job to a worker that lacks its prep: a few,
+    /// by the workers' own rule ([`remember`]), and read again from the store when gone (a
+    /// sweep of ten thousand preps would otherwise hold gigabytes of fields here).
+    payloads: VecDeque<(i64, PrepPayload)>,
     prep_seeds: HashMap<i64, u64>,
     pub(super) progress: Progress,
     /// (started, finished) of the jobs this run finished in the latest window.
@@ -68,8 +77,9 @@ impl<'a> Run<'a> {
             waiting: HashMap::new(),
             ready: VecDeque::new(),
             queued: HashSet::new(),
+            planned_left: true,
             ok_preps: HashSet::new(),
-            payloads: HashMap::new(),
+            payloads: VecDeque::new(),
             prep_seeds: HashMap::new(),
             progress: Progress::default(),
             spans: Vec::new(),
@@ -77,7 +87,29 @@ impl<'a> Run<'a> {
         run.refresh_totals()?;
         run.queue_preps()?;
         run.queue_pending()?;
+        run.top_up()?;
         Ok(run)
+    }
+
+    /// Keep about [`LOOKAHEAD`] jobs queued: the store keeps a sweep's jobs planned until a
+    /// run is about to dispatch them (`Store::materialize_next`), so ten million registered
+    /// jobs cost neither rows at registration nor memory here, only the next points' worth.
+    fn top_up(&mut self) -> Result<(), RunError> {
+        let queued = self.ready.len() + self.waiting.values().map(|v| v.len()).sum::<usize>();
+        if !self.planned_left || queued >= LOOKAHEAD {
+            return Ok(());
+        }
+        let written = self.store.materialize_next(
+            self.ledger.sweep_id,
+            &self.ledger.version,
+            LOOKAHEAD - queued,
+        )?;
+        if written == 0 {
+            self.planned_left = false;
+        } else {
+            self.queue_pending()?;
+        }
+        Ok(())
     }
 
     /// Queue the sweep's preps this run does not know yet (all of them at the start; then
@@ -147,17 +179,19 @@ impl<'a> Run<'a> {
             self.refresh_totals()?;
             self.queue_preps()?;
             self.queue_pending()?;
+            self.planned_left = true;
+            self.top_up()?;
         }
         Ok(())
     }
 
     fn payload(&mut self, prep_id: i64) -> Result<PrepPayload, RunError> {
-        if let Some(p) = self.payloads.get(&prep_id) {
+        if let Some((_, p)) = self.payloads.iter().find(|(id, _)| *id == prep_id) {
             return Ok(p.clone());
         }
         let seed = self.prep_seeds.get(&prep_id).copied().unwrap_or_default();
         let payload = PrepPayload::from_record(self.store.load_prep(prep_id)?, seed)?;
-        self.payloads.insert(prep_id, payload.clone());
+        remember(&mut self.payloads, prep_id, payload.clone());
         Ok(payload)
     }
 
@@ -173,6 +207,9 @@ impl<'a> Run<'a> {
             remember(&mut worker.preps, prep.id, ());
             worker.busy = Some(Busy::Prep(prep));
             return Ok(Some(req));
+        }
+        if self.ready.len() < LOOKAHEAD / 2 {
+            self.top_up()?;
         }
         if let Some(job) = self.ready.pop_front() {
             self.store.claim_job(job.id)?;
@@ -225,7 +262,9 @@ impl<'a> Run<'a> {
                 }
                 self.progress.preps_done += 1;
                 let verdict = prep.verdict;
-                self.payloads.insert(task.id, *prep);
+                if verdict == Verdict::Ok {
+                    remember(&mut self.payloads, task.id, *prep);
+                }
                 self.prep_decided(task.id, verdict, s.jobs_settled);
                 self.plan_rounds()?;
             }

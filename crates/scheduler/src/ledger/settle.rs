@@ -98,8 +98,7 @@ impl Ledger {
                 result.seeds.collision, job.seed
             ));
         }
-        let config: Config = serde_json::from_str(&job.config)?;
-        if result.config != config {
+        if !self.is_stored_config(&job.config, &result.config)? {
             return refuse("its parameters are not the job's".into());
         }
         let prep = store.prep_identity(job.prep_id, self.sweep_id)?;

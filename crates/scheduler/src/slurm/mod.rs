@@ -99,12 +99,18 @@ pub fn submit(
         // adaptive sweep plans its next round.
         opening = Ledger::open(store, sweep_id, version, opts.max_attempts)?.1;
     }
+    // Every planned job becomes a row now: a task file names its jobs by id. A dry run writes
+    // nothing, and counts the planned ones with the rows.
+    let unwritten = if opts.dry_run {
+        store.planned_jobs(sweep_id, version)?
+    } else {
+        store.materialize_next(sweep_id, version, usize::MAX)?;
+        0
+    };
     let (prep_reqs, job_reqs) = requests(store, sweep_id, version, &preps_dir, opts.dry_run)?;
+    let jobs = job_reqs.len() + unwritten;
     let max_index = max_array_size().unwrap_or(1001).saturating_sub(1).max(1);
-    let per_task = opts
-        .jobs_per_task
-        .max(1)
-        .max(job_reqs.len().div_ceil(max_index));
+    let per_task = opts.jobs_per_task.max(1).max(jobs.div_ceil(max_index));
     let prep_per_task = 1usize.max(prep_reqs.len().div_ceil(max_index));
     let n = std::fs::read_dir(&opts.run_dir)
         .map(|d| d.count())
@@ -117,11 +123,11 @@ pub fn submit(
         sub_dir: sub_dir.clone(),
         jobs_per_task: per_task,
         preps: prep_reqs.len(),
-        jobs: job_reqs.len(),
+        jobs,
         ..Default::default()
     };
     sub.prep_tasks = prep_reqs.len().div_ceil(prep_per_task);
-    sub.collide_tasks = job_reqs.len().div_ceil(per_task);
+    sub.collide_tasks = jobs.div_ceil(per_task);
     if sub.prep_tasks > 0 {
         sub.scripts.push((
             "prep".into(),

@@ -50,7 +50,9 @@ pub(super) struct Run<'a> {
     pub(super) prep_queue: VecDeque<PrepTask>,
     pub(super) waiting: HashMap<i64, VecDeque<JobTask>>,
     pub(super) ready: VecDeque<JobTask>,
-    /// Every job this run has queued, so that a new round's jobs are queued once.
+    /// The jobs this run has queued and not yet seen end, so that a new round's (or a top-up's)
+    /// pending jobs are queued once; a job leaves it when it is done or failed for good, so it
+    /// holds the jobs in flight and ahead, not the ten million of a whole run.
     queued: HashSet<i64>,
     /// Whether the store may still hold planned jobs of the sweep that are not rows yet (see
     /// [`Run::top_up`]).
@@ -234,6 +236,9 @@ impl<'a> Run<'a> {
             self.ok_preps.insert(prep_id);
             self.ready.extend(jobs);
         } else {
+            for j in &jobs {
+                self.queued.remove(&j.id);
+            }
             self.progress.jobs_done += settled as u64;
             count(
                 &mut self.progress.outcomes,
@@ -281,8 +286,11 @@ impl<'a> Run<'a> {
                     .settle_job(self.store, task.id, &result, wall_s)?
                 {
                     Settlement::Refused(why) => return self.on_failure(Busy::Job(task), &why),
-                    Settlement::Already => {}
+                    Settlement::Already => {
+                        self.queued.remove(&task.id);
+                    }
                     Settlement::New => {
+                        self.queued.remove(&task.id);
                         self.progress.jobs_done += 1;
                         let t = cellsweep_store::now();
                         self.spans.push((t - wall_s, t));
@@ -330,9 +338,14 @@ impl<'a> Run<'a> {
             (Failure::GaveUp { jobs }, Busy::Prep(p)) => {
                 self.progress.preps_done += 1;
                 self.progress.failed += jobs as u64;
-                self.waiting.remove(&p.id);
+                for j in self.waiting.remove(&p.id).unwrap_or_default() {
+                    self.queued.remove(&j.id);
+                }
             }
-            (Failure::GaveUp { jobs }, Busy::Job(_)) => self.progress.failed += jobs as u64,
+            (Failure::GaveUp { jobs }, Busy::Job(j)) => {
+                self.progress.failed += jobs as u64;
+                self.queued.remove(&j.id);
+            }
             // (A task this run claimed is open and its prep is ready: not reached.)
             (Failure::Already | Failure::PrepNotReady, _) => {}
         }

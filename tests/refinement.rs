@@ -225,6 +225,22 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
             String::from_utf8_lossy(&o.stderr)
         );
     }
+    // What the export says it cost: the grid's 12 points and the added ones apart, row for
+    // row, and the same read from the store.
+    let from_export = cellsweep_report::load::from_export(&dir.join("all.csv")).unwrap();
+    let from_store = cellsweep_report::load::from_store(&db, None).unwrap();
+    for p in [from_export.provenance, from_store.provenance] {
+        let p = p.expect("a provenance");
+        assert_eq!((p.grid_points, p.added_points), (12, added as u64));
+        assert_eq!(p.grid.rows, 12 * 40);
+        assert_eq!(p.added.rows, added as u64 * 40);
+        assert_eq!(p.fixed_grid_replicates(), 12 * 40);
+        assert!(
+            p.added.collision_s > 0.0 && p.grid.collision_s > 0.0,
+            "{p:?}"
+        );
+        assert_eq!(p.refine, sweep_refine(toml));
+    }
     // A row at a point no refinement of this sweep could add is refused by import.
     let text = std::fs::read_to_string(dir.join("all.csv")).unwrap();
     let forged = text.replacen("\nengine,0.1,10.0,", "\nengine,0.1,10.25,", 1);
@@ -235,6 +251,11 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("not on the refinement's step"), "{err}");
     assert!(!dir.join("f.sqlite").exists());
+}
+
+/// The `[refine]` rule of the sweep file at `toml`.
+fn sweep_refine(toml: &str) -> Option<cellsweep_stats::RefineRule> {
+    Sweep::load(std::path::Path::new(toml)).unwrap().refine
 }
 
 /// An export's rows without their wall times, sorted.

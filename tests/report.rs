@@ -149,9 +149,24 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
         "(a) outcome",
         "Provenance",
         "cellsweep-solver",
+        "Precision and cost",
     ] {
         assert!(html.contains(need), "the report lacks {need:?}");
     }
+    // Each of the six diagrams is shown once, from its sweep's largest export (a refined one
+    // over the adaptive run it grew from), and its cost set against the paper's fixed grid of
+    // 66 points x 96 replicates.
+    let cost = html
+        .split("id=\"cost\"")
+        .nth(1)
+        .and_then(|t| t.split("</table>").next())
+        .expect("a cost table");
+    assert!(cost.contains("<td class=\"num\">38016</td>"), "{cost}");
+    assert_eq!(
+        cost.matches("<td class=\"num\">6336</td>").count(),
+        6,
+        "{cost}"
+    );
     // Each of the paper's diagrams is drawn, or (not in the data yet) named with the command
     // that makes it.
     for (l, sigma) in [(90, 5), (80, 5), (70, 5), (90, 0), (80, 0), (70, 0)] {

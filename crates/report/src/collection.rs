@@ -243,14 +243,18 @@ mod tests {
                 replicates: n as u32,
                 preps_per_point: preps,
                 adaptive: None,
+                refine: None,
                 precision: "f32".into(),
                 collide_time: 400.0,
                 solver_versions: vec![],
-                rows: n,
-                collisions: n,
-                collision_s: 0.0,
-                prep_s: 0.0,
-                untimed: 0,
+                grid_points: 1,
+                added_points: 0,
+                grid: crate::Cost {
+                    rows: n,
+                    collisions: n,
+                    ..Default::default()
+                },
+                added: crate::Cost::default(),
             }),
         }
     }

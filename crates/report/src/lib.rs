@@ -3,10 +3,12 @@
 //! The paper's results read off a sweep's counts: the figures of `cellsweep plot`, the paper's
 //! claims checked one by one, and the one self-contained HTML page of `cellsweep report`.
 //!
-//! Main types: [`Results`] (one sweep's counts, standings and [`Provenance`], loaded by
-//! [`load`] from a store, an export or a counts file), [`Collection`] (results sorted into the paper's six diagrams, the speed figure and
-//! the spindle check), [`claims::Claim`] with its [`claims::Verdict`], and [`Report`], which
-//! [`Report::to_html`] writes. [`figures`] turns counts into the drawings of `cellsweep-plot`.
+//! Main types: [`Results`] (one sweep's counts, standings and [`Provenance`] with the [`Cost`]
+//! of its grid and of its refinement, loaded by [`load`] from a store, an export or a counts
+//! file), [`Collection`] (results sorted into the paper's six diagrams, the speed figure and the
+//! spindle check), [`analysis::Analysis`] (every number a report states, computed once),
+//! [`claims::Claim`] with its [`claims::Verdict`], and [`render`], which writes the page.
+//! [`figures`] turns counts into the drawings of `cellsweep-plot`.
 
 pub mod analysis;
 pub mod claims;
@@ -18,7 +20,7 @@ pub mod load;
 pub mod plot_files;
 pub mod text;
 
-use cellsweep_stats::{AdaptiveRule, Assessment, Counts, Scales};
+use cellsweep_stats::{AdaptiveRule, Assessment, Counts, RefineRule, Scales};
 
 pub use collection::{Collection, DiagramKey};
 pub use html::render;
@@ -73,24 +75,61 @@ pub struct Provenance {
     pub replicates: u32,
     pub preps_per_point: u32,
     pub adaptive: Option<AdaptiveRule>,
+    /// The sweep's refinement rule, if it has one.
+    pub refine: Option<RefineRule>,
     /// "f32" or "f64" collisions.
     pub precision: String,
     /// tau0 of each collision.
     pub collide_time: f64,
     pub solver_versions: Vec<String>,
+    /// The grid's points, and the points refinement added that have a result.
+    pub grid_points: u64,
+    pub added_points: u64,
+    /// What the finished rows at the grid's points cost, and at the added points.
+    pub grid: Cost,
+    pub added: Cost,
+}
+
+impl Provenance {
+    /// What every finished row cost: the grid's and the added points' together.
+    pub fn total(&self) -> Cost {
+        self.grid.plus(&self.added)
+    }
+
+    /// A fixed run of the grid at the full budget: its collisions (every replicate of every
+    /// grid point, breakups and unstable preps aside).
+    pub fn fixed_grid_replicates(&self) -> u64 {
+        self.grid_points * self.replicates as u64
+    }
+}
+
+/// What a set of finished rows cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Cost {
     /// Finished replicates, and of them the ones that ran a collision.
     pub rows: u64,
     pub collisions: u64,
-    /// Seconds of collisions and of preps on their workers, over the rows that recorded them.
+    /// Seconds of collisions and of preps on their workers, over the rows that recorded them
+    /// (each prep once).
     pub collision_s: f64,
     pub prep_s: f64,
     /// Rows without a recorded wall time (imported from an export of format 1).
     pub untimed: u64,
 }
 
-impl Provenance {
+impl Cost {
     /// Core-hours recorded (collisions and preps).
     pub fn core_hours(&self) -> f64 {
         (self.collision_s + self.prep_s) / 3600.0
+    }
+
+    pub fn plus(&self, o: &Cost) -> Cost {
+        Cost {
+            rows: self.rows + o.rows,
+            collisions: self.collisions + o.collisions,
+            collision_s: self.collision_s + o.collision_s,
+            prep_s: self.prep_s + o.prep_s,
+            untimed: self.untimed + o.untimed,
+        }
     }
 }

@@ -12,7 +12,7 @@ use cellsweep_stats::{Axes, Counts, End, Label, Scales};
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::{Store, StoreError};
 
-use crate::{Provenance, Results};
+use crate::{Cost, Provenance, Results};
 
 /// Why results could not be loaded: one line naming the source and the problem.
 #[derive(Debug, thiserror::Error)]
@@ -110,7 +110,7 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
                 .map(|p| p.into_iter().map(|s| s.1).collect())
                 .collect(),
         ),
-        provenance: Some(provenance(source, sweep, rows)),
+        provenance: Some(provenance(source, sweep, rows, points.len())),
     })
 }
 
@@ -156,27 +156,34 @@ fn counts_of(ends: &[PointEnds], speeds: &[Vec<(u64, f64)>]) -> Vec<Counts> {
         .collect()
 }
 
-/// What the sweep is and what its finished rows cost (each prep's time counted once).
-fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Provenance {
+/// What the sweep is and what its finished rows cost, at the grid's points and at the points
+/// its refinement added (each prep's time counted once); `points` counts both.
+fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow], points: usize) -> Provenance {
     let mut versions: Vec<String> = Vec::new();
-    let mut preps: Vec<u64> = Vec::new();
-    let (mut collision_s, mut prep_s, mut untimed, mut collisions) = (0.0, 0.0, 0, 0);
+    let mut preps = std::collections::HashSet::new();
+    let (mut grid, mut added) = (Cost::default(), Cost::default());
     for r in rows {
         if !versions.contains(&r.solver_version) {
             versions.push(r.solver_version.clone());
         }
+        // Refinement adds beta values only: a row off the grid's betas is at an added point.
+        let cost = match sweep.grid.beta.contains(&r.beta) {
+            true => &mut grid,
+            false => &mut added,
+        };
+        cost.rows += 1;
         if r.collision_steps > 0 {
-            collisions += 1;
+            cost.collisions += 1;
             match r.wall_s {
-                Some(w) => collision_s += w,
-                None => untimed += 1,
+                Some(w) => cost.collision_s += w,
+                None => cost.untimed += 1,
             }
         }
-        if !preps.contains(&r.prep_seed) {
-            preps.push(r.prep_seed);
-            prep_s += r.prep_wall_s.unwrap_or(0.0);
+        if preps.insert(r.prep_seed) {
+            cost.prep_s += r.prep_wall_s.unwrap_or(0.0);
         }
     }
+    let grid_points = sweep.points().len();
     Provenance {
         source: source.to_string(),
         seed: sweep.seed,
@@ -184,14 +191,14 @@ fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Provenance {
         replicates: sweep.replicates,
         preps_per_point: sweep.preps_per_point,
         adaptive: sweep.adaptive,
+        refine: sweep.refine,
         precision: sweep.protocol.precision.as_str().to_string(),
         collide_time: sweep.protocol.collide_time,
         solver_versions: versions,
-        rows: rows.len() as u64,
-        collisions,
-        collision_s,
-        prep_s,
-        untimed,
+        grid_points: grid_points as u64,
+        added_points: points.saturating_sub(grid_points) as u64,
+        grid,
+        added,
     }
 }
 

@@ -212,14 +212,18 @@ mod tests {
                 replicates: 96,
                 preps_per_point: 1,
                 adaptive: None,
+                refine: None,
                 precision: "f64".into(),
                 collide_time: 400.0,
                 solver_versions: vec![],
-                rows: 66 * 96,
-                collisions: 66 * 96,
-                collision_s: 0.0,
-                prep_s: 0.0,
-                untimed: 0,
+                grid_points: 66,
+                added_points: 0,
+                grid: crate::Cost {
+                    rows: 66 * 96,
+                    collisions: 66 * 96,
+                    ..Default::default()
+                },
+                added: crate::Cost::default(),
             }),
         }
     }

@@ -7,6 +7,7 @@ use cellsweep_stats::{Column, Fit, NoFit};
 
 use super::escape;
 use crate::analysis::{Analysis, RESAMPLES};
+use crate::Results;
 
 pub(super) fn interval(v: f64, ci: [f64; 2], digits: usize) -> String {
     if ci[0].is_finite() {
@@ -187,5 +188,120 @@ pub(super) fn columns_section(h: &mut String, an: &Analysis<'_>) {
             let _ = write!(h, "<td class=\"num\">{b:.1}</td>");
         }
         h.push_str("</tr>\n</table>\n");
+    }
+}
+
+/// How narrow the line's columns are, and what they cost against a fixed grid: one row per
+/// shown result set (its diagrams' columns together), a total, and the paper's fixed run.
+pub(super) fn cost_section(h: &mut String, an: &Analysis<'_>) {
+    let mut sets: Vec<(&Results, Vec<&Column>, Vec<String>)> = Vec::new();
+    for (s, (_, cols, _)) in an.collection.diagrams.iter().zip(&an.per_diagram) {
+        match sets
+            .iter_mut()
+            .find(|(r, _, _)| std::ptr::eq(*r, s.results))
+        {
+            Some((_, c, titles)) => {
+                c.extend(cols);
+                titles.push(s.key.title());
+            }
+            None => sets.push((s.results, cols.iter().collect(), vec![s.key.title()])),
+        }
+    }
+    if sets.is_empty() {
+        return;
+    }
+    let _ = write!(
+        h,
+        "<h3 id=\"cost\">Precision and cost</h3>\n<p>Per result set: its columns with a model \
+         crossing, how many have a 95% interval at most as wide as the sweep's refinement asks \
+         (1.0 where it asks nothing), and the replicates run at the grid's points (by the \
+         adaptive rule) and at the β values refinement added, against a fixed run of the same \
+         grid at the full budget (the paper's way: 96 replicates at each of 66 points per \
+         diagram). Core-hours are the workers' recorded times, collisions and preps; a fixed \
+         run's are estimated at this run's mean per replicate.</p>\n<table>\n<tr><th>diagrams</th><th>columns with a crossing</th>\
+         <th>narrow enough</th><th>widest interval</th><th>fixed grid: replicates</th>\
+         <th>grid (adaptive): replicates</th><th>refinement: β values, replicates</th>\
+         <th>core-hours (grid + refinement)</th><th>fixed grid: core-hours, est.</th></tr>\n"
+    );
+    let (mut fixed, mut total, mut crossings, mut narrow) = (0u64, crate::Cost::default(), 0, 0);
+    let mut fixed_hours = 0.0;
+    for (r, cols, titles) in &sets {
+        let width = r
+            .provenance
+            .as_ref()
+            .and_then(|p| p.refine)
+            .map_or(1.0, |rule| rule.width);
+        let widths: Vec<f64> = cols
+            .iter()
+            .filter(|c| c.beta_star.is_some())
+            .filter_map(|c| c.beta_ci.map(|ci| ci[1] - ci[0]))
+            .collect();
+        let fine = widths.iter().filter(|&&w| w <= width).count();
+        crossings += widths.len();
+        narrow += fine;
+        let widest = widths
+            .iter()
+            .copied()
+            .fold(None, |m: Option<f64>, w| Some(m.map_or(w, |m| m.max(w))))
+            .map_or("–".into(), |w| format!("{w:.2}"));
+        let Some(p) = &r.provenance else {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{fine} at ≤ {width}</td>\
+                 <td class=\"num\">{widest}</td><td colspan=\"5\">a counts file: no costs</td></tr>",
+                escape(&titles.join("; ")),
+                widths.len()
+            );
+            continue;
+        };
+        let cost = p.total();
+        let est = p.fixed_grid_replicates() as f64 * per_replicate_s(&cost) / 3600.0;
+        fixed += p.fixed_grid_replicates();
+        fixed_hours += est;
+        total = total.plus(&cost);
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{fine} at ≤ {width}</td>\
+             <td class=\"num\">{widest}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+             <td class=\"num\">{}, {}</td><td class=\"num\">{}</td><td class=\"num\">{est:.1}</td></tr>",
+            escape(&titles.join("; ")),
+            widths.len(),
+            p.fixed_grid_replicates(),
+            p.grid.rows,
+            p.added_points,
+            p.added.rows,
+            escape(&match p.added.rows {
+                0 => super::provenance::core_hours(&p.grid),
+                _ => format!(
+                    "{} + {}",
+                    super::provenance::core_hours(&p.grid),
+                    super::provenance::core_hours(&p.added)
+                ),
+            }),
+        );
+    }
+    let share = match fixed {
+        0 => String::new(),
+        f => format!(
+            " ({:.0}% of the fixed grid's)",
+            100.0 * total.rows as f64 / f as f64
+        ),
+    };
+    let _ = writeln!(
+        h,
+        "<tr><td><b>all</b></td><td class=\"num\">{crossings}</td><td class=\"num\">{narrow} of {crossings}</td>\
+         <td></td><td class=\"num\">{fixed}</td><td colspan=\"2\" class=\"num\">{} in all{}</td>\
+         <td class=\"num\">{}</td><td class=\"num\">{fixed_hours:.1}</td></tr>\n</table>",
+        total.rows,
+        share,
+        escape(&super::provenance::core_hours(&total)),
+    );
+}
+
+/// Core-seconds per replicate over the rows that recorded their times (0 if none did).
+fn per_replicate_s(cost: &crate::Cost) -> f64 {
+    match cost.rows.saturating_sub(cost.untimed) {
+        0 => 0.0,
+        n => (cost.collision_s + cost.prep_s) / n as f64,
     }
 }

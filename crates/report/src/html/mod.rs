@@ -17,7 +17,7 @@ mod provenance;
 
 use collapse::collapse_section;
 use diagrams::{checks_section, diagrams_section};
-use line::{columns_section, fit_section};
+use line::{columns_section, cost_section, fit_section};
 use provenance::provenance_section;
 
 /// Text made safe for HTML content and attribute values.
@@ -98,6 +98,7 @@ pub fn render(all: &[Results], generated: &str) -> String {
     fit_section(&mut h, &an);
     collapse_section(&mut h, &an);
     columns_section(&mut h, &an);
+    cost_section(&mut h, &an);
     diagrams_section(&mut h, &an);
     checks_section(&mut h, &an);
     provenance_section(&mut h, all, &an, generated);

@@ -38,17 +38,15 @@ pub(super) fn provenance_section(
                     ),
                     None => format!("{} fixed", p.replicates),
                 };
-                let ch = p.core_hours();
-                let ch = if ch >= 0.1 {
-                    format!("{ch:.2}")
-                } else {
-                    format!("{ch:.4}")
+                let budget = match (&p.refine, p.added_points) {
+                    (Some(r), n) => format!(
+                        "{budget}; refined to β* intervals {} wide on a step of {}: {n} β values added",
+                        r.width, r.step
+                    ),
+                    (None, _) => budget,
                 };
-                let hours = if p.untimed > 0 {
-                    format!("{ch} (+ {} collisions imported without times)", p.untimed)
-                } else {
-                    ch
-                };
+                let cost = p.total();
+                let hours = core_hours(&cost);
                 let _ = writeln!(
                     h,
                     "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td>{}, {} τ<sub>0</sub></td>\
@@ -60,8 +58,8 @@ pub(super) fn provenance_section(
                     escape(&p.precision),
                     p.collide_time,
                     escape(&budget),
-                    p.rows,
-                    p.collisions,
+                    cost.rows,
+                    cost.collisions,
                     escape(&hours),
                     escape(&shown)
                 );
@@ -83,4 +81,22 @@ pub(super) fn provenance_section(
         escape(generated),
         env!("CARGO_PKG_VERSION")
     );
+}
+
+/// A cost's core-hours as the tables show them, with the rows that recorded no time.
+pub(super) fn core_hours(cost: &crate::Cost) -> String {
+    let ch = cost.core_hours();
+    let ch = if ch >= 0.1 {
+        format!("{ch:.2}")
+    } else {
+        format!("{ch:.4}")
+    };
+    if cost.untimed > 0 {
+        format!(
+            "{ch} (+ {} collisions imported without times)",
+            cost.untimed
+        )
+    } else {
+        ch
+    }
 }

@@ -254,10 +254,27 @@ fn compute_preps(
         .filter(|p| p.state != JobState::Done)
         .collect();
     if !missing.is_empty() {
-        eprintln!(
-            "computing {} preps to check the rows against (each a whole free motion, about a minute or two on one core)",
-            missing.len()
-        );
+        // What the preps took where the rows were made, for an honest estimate of the wait.
+        let recorded: Vec<f64> = missing
+            .iter()
+            .filter_map(|p| rows.iter().find(|r| r.prep_seed == p.seed))
+            .filter_map(|r| r.prep_wall_s.filter(|w| w.is_finite() && *w > 0.0))
+            .collect();
+        let cores = rayon::current_num_threads().max(1);
+        let estimate = match recorded.len() {
+            0 => "each a whole free motion".to_string(),
+            n => {
+                let each = recorded.iter().sum::<f64>() / n as f64;
+                let batches = missing.len().div_ceil(cores);
+                format!(
+                    "each a whole free motion, {each:.0} s where the rows were made: about {} on {cores} cores",
+                    cellsweep_stats::throughput::fmt_duration(batches as f64 * each)
+                )
+            }
+        };
+        let n = missing.len();
+        let preps = if n == 1 { "prep" } else { "preps" };
+        eprintln!("computing {n} {preps} to check the rows against ({estimate})");
     }
     let computed: Vec<(i64, u64, f64, anyhow::Result<PrepPayload>)> = missing
         .par_iter()

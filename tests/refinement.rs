@@ -253,6 +253,70 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     assert!(!dir.join("f.sqlite").exists());
 }
 
+/// The committed refinement of the paper's L = 70, sigma = 5 diagram, against a fixed sweep
+/// that lists two of the beta values refinement added (at alpha = 0.14, on the 0.125 lattice)
+/// and nothing else: the real model at full size, so the rows must agree field for field
+/// (but the sweep's name and wall times), trajectories and all. Two replicates per point keep
+/// it to four collisions.
+#[test]
+fn the_paper_refinement_stores_the_rows_a_fixed_sweep_listing_its_added_betas_stores() {
+    let dir = common::workdir("refinement", "paper");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let refined = root.join("data/paper/refined-L70-sigma5.csv");
+    let toml = std::fs::read_to_string(root.join("sweeps/refined/L70-sigma5.toml")).unwrap();
+    let (betas, alpha) = (["42.125", "42.375"], "0.14");
+    // The same sweep file with another name, a fixed grid of the two values, no rounds.
+    let head = toml.split("[grid]").next().unwrap();
+    let protocol = toml.split("[protocol]").nth(1).unwrap();
+    let protocol = protocol.split("[adaptive]").next().unwrap();
+    let fixed = head
+        .replace("name = \"adaptive-L70-sigma5\"", "name = \"fixed\"")
+        .replace("replicates = 96", "replicates = 2")
+        + &format!(
+            "[grid]\nalpha = [{alpha}]\nbeta = [{}]\nL = [70]\nsigma = [5]\n[protocol]{protocol}",
+            betas.join(", ")
+        );
+    assert!(fixed.contains("name = \"fixed\"") && fixed.contains("replicates = 2"));
+    std::fs::write(dir.join("fixed.toml"), &fixed).unwrap();
+    let run = common::cellsweep_in(
+        &dir,
+        &["run", "fixed.toml", "--db", "f.sqlite", "--workers", "2"],
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let out = common::cellsweep_in(&dir, &["export", "--db", "f.sqlite", "--out", "f.csv"]);
+    assert!(out.status.success());
+
+    // Both files' rows at those points and replicates, without the sweep's name.
+    let pick = |path: &std::path::Path| -> Vec<Vec<String>> {
+        let (head, rows) = export_table(path);
+        assert_eq!(
+            head[..7],
+            [
+                "sweep",
+                "alpha",
+                "beta",
+                "L",
+                "sigma",
+                "params",
+                "replicate"
+            ]
+        );
+        rows.into_iter()
+            .filter(|r| {
+                r[1] == alpha && betas.contains(&r[2].as_str()) && (r[6] == "0" || r[6] == "1")
+            })
+            .map(|r| r[1..].to_vec())
+            .collect()
+    };
+    let (ours, committed) = (pick(&dir.join("f.csv")), pick(&refined));
+    assert_eq!(ours.len(), 4, "{ours:?}");
+    assert_eq!(ours, committed);
+}
+
 /// The `[refine]` rule of the sweep file at `toml`.
 fn sweep_refine(toml: &str) -> Option<cellsweep_stats::RefineRule> {
     Sweep::load(std::path::Path::new(toml)).unwrap().refine
@@ -260,11 +324,21 @@ fn sweep_refine(toml: &str) -> Option<cellsweep_stats::RefineRule> {
 
 /// An export's rows without their wall times, sorted.
 fn export_rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    export_table(path).1
+}
+
+/// An export's header and rows, both without the wall times, the rows sorted.
+fn export_table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
     let mut r = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .from_path(path)
         .unwrap();
     let head = r.headers().unwrap().clone();
+    let names = head
+        .iter()
+        .filter(|h| !h.ends_with("wall_s"))
+        .map(String::from)
+        .collect();
     let mut rows: Vec<Vec<String>> = r
         .records()
         .map(|rec| {
@@ -278,5 +352,5 @@ fn export_rows(path: &std::path::Path) -> Vec<Vec<String>> {
         .collect();
     rows.sort();
     assert!(!rows.is_empty());
-    rows
+    (names, rows)
 }

@@ -136,7 +136,23 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
         dir.join("both.html").to_str().unwrap(),
     ]));
     let files = std::fs::read_dir(&data).unwrap().count() + 1;
-    assert!(both.contains(&format!("({files} sweeps:")), "{both}");
+    assert!(
+        both.contains(&format!("({files} result sets of ")),
+        "{both}"
+    );
+    assert!(both.contains("check-breakup-wide-column"), "{both}");
+    // And a file is read as itself.
+    let one = ok(&cellsweep(&[
+        "report",
+        "--data",
+        check.to_str().unwrap(),
+        "--out",
+        dir.join("one.html").to_str().unwrap(),
+    ]));
+    assert!(
+        one.contains("(1 result set of 1 sweep: check-breakup-wide-column)"),
+        "{one}"
+    );
     // What a reader needs: the claims with verdicts, the fit beside the paper's, the diagram
     // drawn inline, and where every number came from.
     for need in [

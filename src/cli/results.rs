@@ -156,10 +156,10 @@ pub struct ReportArgs {
     /// A store: every sweep in it.
     #[arg(long, value_name = "PATH")]
     pub db: Option<std::path::PathBuf>,
-    /// A folder of `cellsweep export` files (every *.csv in it, e.g. data/paper): no store,
-    /// no recomputation. Give it again to add folders (`--data data/paper --data
+    /// A `cellsweep export` file, or a folder of them (every *.csv in it, e.g. data/paper):
+    /// no store, no recomputation. Give it again to add more (`--data data/paper --data
     /// data/collapse`).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR|FILE.csv")]
     pub data: Vec<std::path::PathBuf>,
     /// The HTML file to write.
     #[arg(long, value_name = "FILE.html")]

@@ -34,26 +34,45 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
     let html = cellsweep_report::render(&results, &cellsweep_report::html::utc_stamp(now));
     let out = &args.out;
     crate::output::replace_file(out, |w| Ok(std::io::Write::write_all(w, html.as_bytes())?))?;
-    println!(
-        "wrote {} ({} {}: {})",
-        out.display(),
-        results.len(),
-        if results.len() == 1 {
-            "sweep"
-        } else {
-            "sweeps"
-        },
-        results
-            .iter()
-            .map(|r| r.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    println!("wrote {} ({})", out.display(), summary(&results));
     Ok(())
 }
 
-/// The export files (*.csv) of folder `dir`, sorted; an error if it has none.
+/// What a report was made of: "2 result sets of 1 sweep: a (2 sets)", each sweep named once.
+fn summary(results: &[cellsweep_report::Results]) -> String {
+    let mut names: Vec<(&str, usize)> = Vec::new();
+    for r in results {
+        match names.iter_mut().find(|(n, _)| *n == r.name) {
+            Some((_, k)) => *k += 1,
+            None => names.push((&r.name, 1)),
+        }
+    }
+    let plural =
+        |k: usize, one: &str, many: &str| format!("{k} {}", if k == 1 { one } else { many });
+    let list: Vec<String> = names
+        .iter()
+        .map(|&(n, k)| {
+            if k == 1 {
+                n.to_string()
+            } else {
+                format!("{n} ({k} sets)")
+            }
+        })
+        .collect();
+    format!(
+        "{} of {}: {}",
+        plural(results.len(), "result set", "result sets"),
+        plural(names.len(), "sweep", "sweeps"),
+        list.join(", ")
+    )
+}
+
+/// The export files a `--data` path names: the file itself, or every *.csv of a folder, sorted
+/// (an error if it has none).
 pub fn export_files(dir: &std::path::Path) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    if dir.is_file() {
+        return Ok(vec![dir.to_path_buf()]);
+    }
     let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("cannot read the folder {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -14,11 +14,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<()> {
     }
     let mut exports = Vec::new();
     for path in &args.data {
-        let files = match path.is_file() {
-            true => vec![path.clone()],
-            false => super::report::export_files(path)?,
-        };
-        for f in files {
+        for f in super::report::export_files(path)? {
             exports.push(cellsweep_report::load::from_export(&f)?);
         }
     }

@@ -144,6 +144,50 @@ fn an_import_is_all_or_nothing_and_names_each_problem() {
     );
 }
 
+/// Points whose prep breaks up (beta = 200 on the small lattice) hold a result the prep itself
+/// decides, which import writes when it recomputes the prep: into a fresh store every row is
+/// new, none "already in the store"; the second time every row is.
+#[test]
+fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
+    let dir = workdir("doors", "by-prep");
+    let toml = write_sweep(&dir, "byprep", 2, "")
+        .to_str()
+        .unwrap()
+        .to_string();
+    let text = std::fs::read_to_string(&toml)
+        .unwrap()
+        .replace("beta = [10]", "beta = [10, 200]");
+    std::fs::write(&toml, text).unwrap();
+    ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
+    ok(&cellsweep_in(
+        &dir,
+        &["export", "--db", "r.sqlite", "--out", "e.csv"],
+    ));
+    let export = std::fs::read_to_string(dir.join("e.csv")).unwrap();
+    let rows = export.lines().count() - 3;
+    let by_prep = export.lines().filter(|l| l.contains(",breakup,")).count();
+    assert!(
+        by_prep >= 2 && by_prep < rows,
+        "{by_prep} of {rows}\n{export}"
+    );
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "e.csv", "--db", "fresh.sqlite"],
+    ));
+    assert!(
+        out.contains(&format!("imported {rows} results")) && out.contains("(0 already"),
+        "{out}"
+    );
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "e.csv", "--db", "fresh.sqlite"],
+    ));
+    assert!(
+        out.contains("imported 0 results") && out.contains(&format!("({rows} already")),
+        "{out}"
+    );
+}
+
 #[test]
 fn an_archived_sweeps_export_imports_into_a_fresh_store() {
     let dir = workdir("doors", "archived");

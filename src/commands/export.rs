@@ -179,6 +179,9 @@ fn refuse(file: &str, rows: usize, problems: &[String]) -> anyhow::Result<()> {
 
 /// The import itself, inside the store's one transaction: register, compute and check the
 /// preps, check every row, commit. Returns (results new, results already stored and equal).
+/// The results of points whose prep is unstable or broke up are written by the prep itself, so
+/// rows of a fresh store can be "already stored": they count as new unless the store held them
+/// before the import.
 fn import_into(
     store: &mut Store,
     file: &str,
@@ -191,15 +194,20 @@ fn import_into(
     // Rows are checked against the jobs they claim: every planned job becomes a row first.
     store.materialize_next(reg.sweep_id, SOLVER_VERSION, usize::MAX)?;
     let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;
-    compute_preps(store, &ledger, reg.sweep_id, rows)?;
     let defaults = serde_json::to_value(Params::default())?;
+    let held_before: std::collections::HashSet<JobKey> = store
+        .export_rows(reg.sweep_id, SOLVER_VERSION, &defaults)?
+        .iter()
+        .map(|r| job_key(sweep, r))
+        .collect::<anyhow::Result<_>>()?;
+    compute_preps(store, &ledger, reg.sweep_id, rows)?;
     let mut stored: HashMap<JobKey, ExportRow> = HashMap::new();
     for r in store.export_rows(reg.sweep_id, SOLVER_VERSION, &defaults)? {
         stored.insert(job_key(sweep, &r)?, r);
     }
     let mut problems = Vec::new();
     let mut to_commit = Vec::new();
-    let mut already = 0;
+    let (mut already, mut by_prep) = (0, 0);
     let mut taken = std::collections::HashSet::new();
     for r in rows {
         match ledger.check_row(store, r)? {
@@ -208,16 +216,20 @@ fn import_into(
                     to_commit.push((job, r));
                 }
             }
-            RowCheck::Already => match stored.get(&job_key(sweep, r)?) {
-                Some(s) => {
-                    let c = conflicts("the file's row and the store's", r, s);
-                    if c.is_empty() {
-                        already += 1;
+            RowCheck::Already => {
+                let key = job_key(sweep, r)?;
+                let c = match stored.get(&key) {
+                    Some(s) => conflicts("the file's row and the store's", r, s),
+                    None => Vec::new(),
+                };
+                if c.is_empty() {
+                    match held_before.contains(&key) {
+                        true => already += 1,
+                        false => by_prep += 1,
                     }
-                    problems.extend(c);
                 }
-                None => already += 1,
-            },
+                problems.extend(c);
+            }
             RowCheck::Refused(why) => problems.push(why),
         }
     }
@@ -228,7 +240,7 @@ fn import_into(
             new += 1;
         }
     }
-    Ok((new, already))
+    Ok((new + by_prep, already))
 }
 
 /// A job: its point's axes (as bits, every other axis included) and replicate.

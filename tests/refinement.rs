@@ -154,6 +154,22 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     let db = dir.join("r.sqlite");
     assert_eq!(common::query(&db, "SELECT COUNT(*) FROM points"), 12);
 
+    // The dry run says what the next round adds, column by column, and what it costs.
+    let dry = common::cellsweep_in(&dir, &["run", toml, "--db", "r.sqlite", "--dry-run"]);
+    let said = String::from_utf8_lossy(&dry.stdout);
+    assert!(dry.status.success(), "{said}");
+    assert!(
+        said.contains("refine now: ") && said.contains("the next round of refinement: "),
+        "{said}"
+    );
+    for alpha in ["0.1", "0.12"] {
+        assert!(
+            said.contains(&format!("alpha = {alpha}, L = 48, sigma = 5: beta ")),
+            "{said}"
+        );
+    }
+    assert_eq!(common::query(&db, "SELECT COUNT(*) FROM points"), 12);
+
     // The run plans each column's values from the imported crossings and runs them. Its own
     // 2 tau0 collisions end undetermined, which tells the model nothing: rounds go on until
     // the column's budget (or lattice) is spent.
@@ -211,6 +227,15 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     assert_eq!(
         export_rows(&dir.join("all.csv")),
         export_rows(&dir.join("back.csv"))
+    );
+    // Status tells where refinement stands: every column finished, each at its budget or
+    // lattice (its 2 tau0 collisions decide nothing), nothing more to add.
+    let status = common::cellsweep_in(&dir, &["status", "--db", "r.sqlite"]);
+    let said = String::from_utf8_lossy(&status.stdout);
+    assert!(
+        said.contains(&format!("refine   {added} beta values added"))
+            && said.contains("next round: 0 values in 0 columns now"),
+        "{said}"
     );
     for args in [
         vec!["table", "--data", "all.csv"],

@@ -109,6 +109,26 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
         total / 3600.0,
         hours(total / workers.max(1) as f64)
     );
+    if let (Some(rule), Some(store)) = (&sweep.refine, &store) {
+        if let Ok(id) = store.sweep_id(&sweep.name) {
+            let ledger = cellsweep_scheduler::Ledger::load(store, id, SOLVER_VERSION)?;
+            let columns = ledger.refine_standing(store, rule)?;
+            let (lines, next) = super::refine_lines::lines(&columns, rule, "    ");
+            println!("  refine now: {}", lines.join("\n"));
+            let jobs = next.values as f64 * f64::from(sweep.initial_replicates());
+            let cost = next.values as f64 * prep_s + jobs * collision_s;
+            println!(
+                "  the next round of refinement: {} new points, {jobs} collisions in their first \
+                 round and {} preps: {:.2} core-hours (their adaptive rounds follow)",
+                next.values,
+                next.values,
+                cost / 3600.0
+            );
+            for column in &next.list {
+                println!("    {column}");
+            }
+        }
+    }
     Ok(())
 }
 

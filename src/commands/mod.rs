@@ -7,6 +7,7 @@ mod export;
 mod fit;
 mod model;
 mod plot;
+mod refine_lines;
 mod relax;
 mod report;
 mod reset;

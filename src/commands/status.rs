@@ -111,6 +111,9 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<(
                 .join(" · ")
         );
     }
+    if s.solver_version == SOLVER_VERSION {
+        print_refinement(store, &s.sweep)?;
+    }
     if let Ok(id) = store.sweep_id(&s.sweep) {
         print_arrays(store, id, &s.solver_version)?;
     }
@@ -120,6 +123,18 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<(
     if let Some(line) = speed_line(s.jobs_per_s, (j.pending + j.running) as f64) {
         println!("  speed    {line}");
     }
+    Ok(())
+}
+
+/// A refined sweep's columns: how many are narrow enough, the widest, the next round.
+fn print_refinement(store: &Store, sweep: &str) -> anyhow::Result<()> {
+    let ledger = cellsweep_scheduler::Ledger::load(store, store.sweep_id(sweep)?, SOLVER_VERSION)?;
+    let Some(rule) = ledger.sweep.refine else {
+        return Ok(());
+    };
+    let columns = ledger.refine_standing(store, &rule)?;
+    let (lines, _) = super::refine_lines::lines(&columns, &rule, "           ");
+    println!("  refine   {}", lines.join("\n"));
     Ok(())
 }
 

@@ -93,6 +93,12 @@ pub type PointKey = (u64, u64, u32, u64, Vec<u64>);
 /// A column's identity: every axis but beta, bit for bit.
 pub type ColumnKey = (u64, u32, u64, Vec<u64>);
 
+/// The identity of the column at `alpha`, `L`, `sigma` and the other axes' values.
+#[allow(non_snake_case)]
+pub fn column_key(alpha: f64, L: u32, sigma: f64, others: &Others) -> ColumnKey {
+    (alpha.to_bits(), L, sigma.to_bits(), others.bits())
+}
+
 impl Axes {
     /// The point (alpha, beta, L, sigma) of a sweep with no other axis.
     #[allow(non_snake_case)]
@@ -119,12 +125,7 @@ impl Axes {
 
     /// The identity of the point's column (every axis but beta).
     pub fn column(&self) -> ColumnKey {
-        (
-            self.alpha.to_bits(),
-            self.L,
-            self.sigma.to_bits(),
-            self.others.bits(),
-        )
+        column_key(self.alpha, self.L, self.sigma, &self.others)
     }
 }
 

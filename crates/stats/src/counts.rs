@@ -133,12 +133,7 @@ impl Counts {
 
     /// The identity of the point's column (every axis but beta).
     pub fn column(&self) -> ColumnKey {
-        (
-            self.alpha.to_bits(),
-            self.L,
-            self.sigma.to_bits(),
-            self.others.bits(),
-        )
+        crate::axes::column_key(self.alpha, self.L, self.sigma, &self.others)
     }
 
     /// All replicates with a result.

@@ -125,12 +125,7 @@ pub struct Column {
 impl Column {
     /// The column's identity, as [`Counts::column`] gives it.
     pub fn key(&self) -> ColumnKey {
-        (
-            self.alpha.to_bits(),
-            self.L,
-            self.sigma.to_bits(),
-            self.others.bits(),
-        )
+        crate::axes::column_key(self.alpha, self.L, self.sigma, &self.others)
     }
 
     /// Its crossing with the spreads of its interval, where it has both.

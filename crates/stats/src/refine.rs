@@ -8,6 +8,12 @@
 //! column does not hold yet: nearest first, up to `per_round` of them, and never past the
 //! column's budget of `max_new` added values. The grid's own values are never removed, and a
 //! value is added once.
+//!
+//! A column is narrow enough when its interval is at most `width` wide *and* it has collided
+//! within `width` of beta* on both sides. The interval rests on the logistic curve; where all
+//! the points near the crossing lie on one side of it (a steep column whose next row is 4
+//! away), the curve's slope alone carries it across the gap, and the round adds values on the
+//! empty side.
 
 use serde::{Deserialize, Serialize};
 
@@ -25,7 +31,16 @@ pub struct ColumnRound {
     pub alpha: f64,
     /// The sweep's other axes in this column.
     pub others: Others,
+    /// The width of its crossing's 95% interval, where it has one.
+    pub width: Option<f64>,
     pub need: ColumnNeed,
+}
+
+impl ColumnRound {
+    /// The column's identity, as [`crate::Counts::column`] gives it.
+    pub fn key(&self) -> ColumnKey {
+        crate::axes::column_key(self.alpha, self.L, self.sigma, &self.others)
+    }
 }
 
 /// A sweep's refinement rule (its `[refine]` table).
@@ -44,7 +59,8 @@ pub struct RefineRule {
 /// What a column needs next.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ColumnNeed {
-    /// Its interval is at most `width` wide: done.
+    /// Its interval is at most `width` wide, with collided points within `width` of beta* on
+    /// both sides: done.
     Narrow { width: f64 },
     /// New beta values for the next round, nearest the crossing first.
     Add(Vec<f64>),
@@ -74,11 +90,13 @@ impl RefineRule {
     }
 
     /// The next round of one column: its model (or why it has none), the beta values it holds
-    /// (the grid's and those added before), and how many of them earlier rounds added.
+    /// (the grid's and those added before), those of them with a walk-past or training end,
+    /// and how many values earlier rounds added.
     pub fn need(
         &self,
         model: &Result<ColumnModel, NoModelCrossing>,
         present: &[f64],
+        sampled: &[f64],
         added: u32,
     ) -> ColumnNeed {
         let m = match model {
@@ -86,7 +104,12 @@ impl RefineRule {
             Err(why) => return ColumnNeed::NoCrossing(why.to_string()),
         };
         let width = m.ci[1] - m.ci[0];
-        if width <= self.width {
+        let near = |lo: f64, hi: f64| sampled.iter().any(|&b| b >= lo && b <= hi);
+        let (below, above) = (
+            near(m.beta_star - self.width, m.beta_star),
+            near(m.beta_star, m.beta_star + self.width),
+        );
+        if width <= self.width && below && above {
             return ColumnNeed::Narrow { width };
         }
         if added >= self.max_new_per_column {
@@ -107,6 +130,11 @@ impl RefineRule {
             .map(|j| snap(j as f64 * self.step))
             .filter(|&b| b > m.ci[0] && b < m.ci[1] && !held(b))
             .collect();
+        // A column narrow enough but for a side with no collided point near beta* takes values
+        // on that side only.
+        if width <= self.width {
+            candidates.retain(|&b| (b < m.beta_star && !below) || (b > m.beta_star && !above));
+        }
         candidates.sort_by(|a, b| {
             (a - m.beta_star)
                 .abs()
@@ -132,9 +160,11 @@ pub fn plan_round(
     columns(counts, &Scales::default(), &|_| 0)
         .into_iter()
         .map(|c| {
-            let present: Vec<f64> = counts
+            let column: Vec<&Counts> = counts.iter().filter(|p| p.column() == c.key()).collect();
+            let present: Vec<f64> = column.iter().map(|p| p.beta).collect();
+            let sampled: Vec<f64> = column
                 .iter()
-                .filter(|p| p.column() == c.key())
+                .filter(|p| p.n_walk + p.n_train > 0)
                 .map(|p| p.beta)
                 .collect();
             let model = fit_column(&tallies(counts, &c));
@@ -142,7 +172,8 @@ pub fn plan_round(
                 L: c.L,
                 sigma: c.sigma,
                 alpha: c.alpha,
-                need: rule.need(&model, &present, added(&c.key())),
+                width: model.as_ref().ok().map(|m| m.ci[1] - m.ci[0]),
+                need: rule.need(&model, &present, &sampled, added(&c.key())),
                 others: c.others,
             }
         })
@@ -184,40 +215,77 @@ mod tests {
     fn a_round_adds_the_values_nearest_the_crossing_inside_its_interval() {
         let grid = [10.0, 14.0, 18.0, 22.0, 26.0];
         // beta* = 17.3 in [16.2, 18.6]: 17.5 and 17.0 are nearest; 18.0 is on the grid.
-        let need = RULE.need(&model(17.3, 16.2, 18.6), &grid, 0);
+        let need = RULE.need(&model(17.3, 16.2, 18.6), &grid, &grid, 0);
         assert_eq!(need, ColumnNeed::Add(vec![17.0, 17.5]));
         // With those present, the next two nearest.
         let held = [10.0, 14.0, 17.0, 17.5, 18.0, 22.0, 26.0];
-        let need = RULE.need(&model(17.3, 16.4, 18.4), &held, 2);
+        let need = RULE.need(&model(17.3, 16.4, 18.4), &held, &held, 2);
         assert_eq!(need, ColumnNeed::Add(vec![16.5]));
     }
 
     #[test]
     fn a_column_stops_when_narrow_out_of_budget_or_out_of_lattice() {
-        let grid = [10.0, 14.0, 18.0];
+        let grid = [10.0, 14.0, 14.5, 15.5, 18.0];
         assert_eq!(
-            RULE.need(&model(15.0, 14.6, 15.5), &grid, 0),
+            RULE.need(&model(15.0, 14.6, 15.5), &grid, &grid, 0),
             ColumnNeed::Narrow { width: 15.5 - 14.6 }
         );
         assert!(matches!(
-            RULE.need(&model(15.0, 13.0, 17.0), &grid, 6),
+            RULE.need(&model(15.0, 13.0, 17.0), &grid, &grid, 6),
             ColumnNeed::Budget { .. }
         ));
         // Only one slot left: one value.
         assert_eq!(
-            RULE.need(&model(15.0, 13.0, 17.0), &grid, 5),
+            RULE.need(&model(15.0, 13.0, 17.0), &grid, &grid, 5),
             ColumnNeed::Add(vec![15.0])
         );
         let all = [14.0, 14.5, 15.0, 15.5, 16.0];
         assert!(matches!(
-            RULE.need(&model(15.0, 14.2, 15.8), &all, 3),
+            RULE.need(&model(15.0, 14.2, 15.8), &all, &all, 3),
             ColumnNeed::Lattice { .. }
         ));
         let none: Result<ColumnModel, NoModelCrossing> = Err(NoModelCrossing::TrainEverywhere);
         assert!(matches!(
-            RULE.need(&none, &grid, 0),
+            RULE.need(&none, &grid, &grid, 0),
             ColumnNeed::NoCrossing(_)
         ));
+    }
+
+    #[test]
+    fn a_narrow_column_with_no_collisions_near_one_side_of_its_crossing_gets_values_there() {
+        // Training at 26, walk-past from 29.75: the curve's slope alone puts beta* at 29.56 in
+        // [28.84, 29.69], with nothing collided within 1.0 below it.
+        let held = [22.0, 26.0, 29.75, 29.875, 30.0, 34.0];
+        let steep = model(29.56, 28.84, 29.69);
+        let rule = RefineRule {
+            step: 0.125,
+            ..RULE
+        };
+        assert_eq!(
+            rule.need(&steep, &held, &held, 2),
+            ColumnNeed::Add(vec![29.375, 29.5])
+        );
+        // A point whose collisions all broke up says nothing: 29.5 held but not sampled.
+        let held = [22.0, 26.0, 29.5, 29.75, 29.875, 30.0];
+        let sampled = [22.0, 26.0, 29.75, 29.875, 30.0];
+        assert_eq!(
+            rule.need(&steep, &held, &sampled, 2),
+            ColumnNeed::Add(vec![29.25, 29.375])
+        );
+        // With a collided point below, within 1.0: narrow enough.
+        let held = [22.0, 26.0, 29.0, 29.75, 29.875, 30.0];
+        assert!(matches!(
+            rule.need(&steep, &held, &held, 3),
+            ColumnNeed::Narrow { .. }
+        ));
+        // Wider than asked: nearest beta* first, whichever side (the rounds that narrow it
+        // fill in around it).
+        let wide = model(29.3, 28.2, 29.69);
+        let held = [26.0, 29.5, 29.625, 30.0];
+        assert_eq!(
+            rule.need(&wide, &held, &held, 2),
+            ColumnNeed::Add(vec![29.25, 29.375])
+        );
     }
 
     #[test]
@@ -259,7 +327,7 @@ mod tests {
     #[test]
     fn added_values_are_the_numbers_a_sweep_file_would_list() {
         let rule = RefineRule { step: 0.1, ..RULE };
-        let ColumnNeed::Add(v) = rule.need(&model(0.3, 0.05, 1.25), &[], 0) else {
+        let ColumnNeed::Add(v) = rule.need(&model(0.3, 0.05, 1.25), &[], &[], 0) else {
             panic!("a round was owed");
         };
         assert_eq!(v, vec![0.2, 0.3]);

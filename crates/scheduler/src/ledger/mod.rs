@@ -32,6 +32,7 @@ mod settle;
 
 pub use failure::{Failure, TaskRef};
 pub use import::RowCheck;
+pub use rounds::ColumnStanding;
 pub use settle::PrepSettled;
 
 /// What became of a record.

@@ -6,13 +6,24 @@ use std::collections::HashSet;
 
 use cellsweep_solver::Params;
 use cellsweep_stats::adaptive::kinds;
-use cellsweep_stats::refine::{plan_round, ColumnNeed};
-use cellsweep_stats::{assess, Assessment, Axes, ColumnKey, Counts, PointEnds};
+use cellsweep_stats::refine::{plan_round, ColumnNeed, ColumnRound};
+use cellsweep_stats::{assess, Assessment, Axes, ColumnKey, Counts, PointEnds, RefineRule};
 use cellsweep_store::{PointJobs, Store};
 
 use super::Ledger;
 use crate::error::RunError;
 use crate::plan::plan_targets;
+
+/// One column of a refined sweep as its next round sees it, over every finished replicate.
+#[derive(Debug, Clone)]
+pub struct ColumnStanding {
+    pub round: ColumnRound,
+    /// Some of its points have jobs open or an adaptive round owed: it gets no new values until
+    /// they finish (its need is what it would be now).
+    pub busy: bool,
+    /// The values earlier rounds added to it.
+    pub added: u32,
+}
 
 impl Ledger {
     /// The axes of every point of the sweep by index, as the store holds them.
@@ -81,16 +92,11 @@ impl Ledger {
         }
         let axes = self.point_axes(store)?;
         let ends = self.point_ends(store)?;
-        let mut have = store.jobs_per_point(self.sweep_id, &self.version)?;
-        have.resize(axes.len(), PointJobs::default());
-        let mut targets: Vec<u32> = have.iter().map(|h| h.jobs).collect();
-        if let Some(rule) = self.sweep.adaptive {
-            let assessed = assess(&ends, &rule, kinds(self.sweep.preps_per_point));
-            for (t, a) in targets.iter_mut().zip(&assessed) {
-                *t = a.next_round.map_or(*t, |n| n.max(*t));
-            }
-        }
-        let added = self.refinement(&axes, &ends, &have, &targets);
+        let (have, targets) = self.targets(store, &ends)?;
+        let added = match self.sweep.refine {
+            Some(rule) => self.refinement(&self.columns(&rule, &axes, &ends, &have, &targets)),
+            None => Vec::new(),
+        };
         let more: u32 = targets
             .iter()
             .zip(&have)
@@ -113,44 +119,86 @@ impl Ledger {
         Ok(more as usize)
     }
 
-    /// A refined sweep's next points: in every column whose points are all finished (no job
-    /// open, no adaptive round owed), the values [`cellsweep_stats::refine`] asks for.
-    fn refinement(
+    /// Where every column of the sweep stands under refinement rule `rule` (the sweep's own, or
+    /// a sweep file's that would retune it): what `status` and `run --dry-run` show. Writes
+    /// nothing.
+    pub fn refine_standing(
         &self,
+        store: &Store,
+        rule: &RefineRule,
+    ) -> Result<Vec<ColumnStanding>, RunError> {
+        let axes = self.point_axes(store)?;
+        let ends = self.point_ends(store)?;
+        let (have, targets) = self.targets(store, &ends)?;
+        Ok(self.columns(rule, &axes, &ends, &have, &targets))
+    }
+
+    /// Every point's jobs as registered, and the jobs it should have once the adaptive rule's
+    /// next round of the points whose round is complete is added.
+    fn targets(
+        &self,
+        store: &Store,
+        ends: &[PointEnds],
+    ) -> Result<(Vec<PointJobs>, Vec<u32>), RunError> {
+        let mut have = store.jobs_per_point(self.sweep_id, &self.version)?;
+        have.resize(ends.len(), PointJobs::default());
+        let mut targets: Vec<u32> = have.iter().map(|h| h.jobs).collect();
+        if let Some(rule) = self.sweep.adaptive {
+            let assessed = assess(ends, &rule, kinds(self.sweep.preps_per_point));
+            for (t, a) in targets.iter_mut().zip(&assessed) {
+                *t = a.next_round.map_or(*t, |n| n.max(*t));
+            }
+        }
+        Ok((have, targets))
+    }
+
+    /// Every column's next round under `rule`, and whether its points are all finished (no job
+    /// open, no adaptive round owed).
+    fn columns(
+        &self,
+        rule: &RefineRule,
         axes: &[Axes],
         ends: &[PointEnds],
         have: &[PointJobs],
         targets: &[u32],
-    ) -> Vec<Axes> {
-        let Some(rule) = self.sweep.refine else {
-            return Vec::new();
-        };
+    ) -> Vec<ColumnStanding> {
         let busy: HashSet<ColumnKey> = (0..axes.len())
             .filter(|&i| have[i].open > 0 || targets[i] > have[i].jobs)
             .map(|i| axes[i].column())
             .collect();
-        let counts: Vec<Counts> = ends
-            .iter()
-            .zip(axes)
-            .filter(|(_, a)| !busy.contains(&a.column()))
-            .map(|(e, _)| e.counts(u32::MAX))
-            .collect();
+        let counts: Vec<Counts> = ends.iter().map(|e| e.counts(u32::MAX)).collect();
         let grid_beta = &self.sweep.grid.beta;
         let added_to = |key: &ColumnKey| {
             axes.iter()
                 .filter(|a| a.column() == *key && !grid_beta.contains(&a.beta))
                 .count() as u32
         };
+        plan_round(&counts, rule, &added_to)
+            .into_iter()
+            .map(|round| {
+                let key = round.key();
+                ColumnStanding {
+                    busy: busy.contains(&key),
+                    added: added_to(&key),
+                    round,
+                }
+            })
+            .collect()
+    }
+
+    /// A refined sweep's next points: in every column whose points are all finished, the
+    /// values [`cellsweep_stats::refine`] asks for.
+    fn refinement(&self, columns: &[ColumnStanding]) -> Vec<Axes> {
         let mut out = Vec::new();
-        for round in plan_round(&counts, &rule, &added_to) {
-            if let ColumnNeed::Add(values) = round.need {
-                for beta in values {
+        for c in columns.iter().filter(|c| !c.busy) {
+            if let ColumnNeed::Add(values) = &c.round.need {
+                for &beta in values {
                     let a = Axes {
-                        alpha: round.alpha,
+                        alpha: c.round.alpha,
                         beta,
-                        L: round.L,
-                        sigma: round.sigma,
-                        others: round.others.clone(),
+                        L: c.round.L,
+                        sigma: c.round.sigma,
+                        others: c.round.others.clone(),
                     };
                     // (The values lie inside a crossing's interval, itself inside the
                     // column's sampled betas, on the step lattice: always admitted.)

@@ -110,6 +110,9 @@ impl SweepBar {
         }
         parts.push(ends);
         parts.push(format!("preps {}/{}", p.preps_done, p.preps_total));
+        if let Some(n) = p.refined_points {
+            parts.push(format!("refined +{n} betas"));
+        }
         if o.unstable + o.breakup > 0 {
             parts.push(format!("unstable {} breakup {}", o.unstable, o.breakup));
         }

@@ -182,6 +182,12 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     );
     assert!(text.contains("refine"), "{text}");
     let added = common::query(&db, "SELECT COUNT(*) FROM points") - 12;
+    // Its progress lines count the added points; the last has them all.
+    let last = text.lines().filter(|l| l.starts_with("progress: ")).last();
+    assert!(
+        last.is_some_and(|l| l.contains(&format!("refined +{added} betas"))),
+        "{text}"
+    );
     assert!(added >= 2, "{added} points added\n{text}");
     for alpha in [0.1, 0.12] {
         let n = common::query(

@@ -54,6 +54,9 @@ pub struct Progress {
     /// Jobs per second over the latest window of this run's activity, by the estimator
     /// `status` uses (`cellsweep_stats::throughput`).
     pub jobs_per_s: Option<f64>,
+    /// A refined sweep's points added between the grid's betas so far (None without
+    /// `[refine]`).
+    pub refined_points: Option<u64>,
 }
 
 /// Receives progress and notes from a run.

@@ -153,6 +153,16 @@ impl<'a> Run<'a> {
             self.progress.failed = s.jobs.failed as u64;
             self.progress.outcomes = s.outcomes.clone();
         }
+        if self.ledger.sweep.refine.is_some() {
+            let grid = &self.ledger.sweep.grid.beta;
+            let added = self
+                .ledger
+                .point_axes(self.store)?
+                .iter()
+                .filter(|a| !grid.contains(&a.beta))
+                .count();
+            self.progress.refined_points = Some(added as u64);
+        }
         Ok(())
     }
 

@@ -183,7 +183,7 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
     assert!(text.contains("refine"), "{text}");
     let added = common::query(&db, "SELECT COUNT(*) FROM points") - 12;
     // Its progress lines count the added points; the last has them all.
-    let last = text.lines().filter(|l| l.starts_with("progress: ")).last();
+    let last = text.lines().rfind(|l| l.starts_with("progress: "));
     assert!(
         last.is_some_and(|l| l.contains(&format!("refined +{added} betas"))),
         "{text}"

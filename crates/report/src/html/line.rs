@@ -214,12 +214,13 @@ pub(super) fn cost_section(h: &mut String, an: &Analysis<'_>) {
         h,
         "<h3 id=\"cost\">Precision and cost</h3>\n<p>Per result set: its columns with a model \
          crossing, how many have a 95% interval at most as wide as the sweep's refinement asks \
-         (1.0 where it asks nothing), and the replicates run at the grid's points (by the \
+         (1.0 where it asks nothing; refinement also wants collided points within that width on \
+         both sides of β*), and the replicates run at the grid's points (by the \
          adaptive rule) and at the β values refinement added, against a fixed run of the same \
          grid at the full budget (the paper's way: 96 replicates at each of 66 points per \
          diagram). Core-hours are the workers' recorded times, collisions and preps; a fixed \
          run's are estimated at this run's mean per replicate.</p>\n<table>\n<tr><th>diagrams</th><th>columns with a crossing</th>\
-         <th>narrow enough</th><th>widest interval</th><th>fixed grid: replicates</th>\
+         <th>interval within the width</th><th>widest interval</th><th>fixed grid: replicates</th>\
          <th>grid (adaptive): replicates</th><th>refinement: β values, replicates</th>\
          <th>core-hours (grid + refinement)</th><th>fixed grid: core-hours, est.</th></tr>\n"
     );

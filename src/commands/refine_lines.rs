@@ -22,21 +22,28 @@ pub fn lines(
     indent: &str,
 ) -> (Vec<String>, NextRound) {
     let added: u32 = columns.iter().map(|c| c.added).sum();
-    let count =
-        |f: &dyn Fn(&ColumnNeed) -> bool| columns.iter().filter(|c| f(&c.round.need)).count();
+    // A column whose points still run is counted as such: its need is only what it would be
+    // now (a value just added is held but has no collision yet).
+    let count = |f: &dyn Fn(&ColumnNeed) -> bool| {
+        columns
+            .iter()
+            .filter(|c| !c.busy && f(&c.round.need))
+            .count()
+    };
     let narrow = count(&|n| matches!(n, ColumnNeed::Narrow { .. }));
     let adding = count(&|n| matches!(n, ColumnNeed::Add(_)));
     let budget = count(&|n| matches!(n, ColumnNeed::Budget { .. }));
     let lattice = count(&|n| matches!(n, ColumnNeed::Lattice { .. }));
     let none = count(&|n| matches!(n, ColumnNeed::NoCrossing(_)));
+    let running = columns.iter().filter(|c| c.busy).count();
     let mut out = vec![format!(
-        "{added} beta values added (width {}, step {}, at most {} per column); of {} columns \
-         with a crossing: {narrow} narrow enough, {adding} refining, {budget} at their budget, \
-         {lattice} out of lattice; {none} without a crossing",
+        "{added} beta values added (width {}, step {}, at most {} per column); of {} columns: \
+         {running} with points running; {narrow} narrow enough, {adding} to refine, {budget} at \
+         their budget, {lattice} out of lattice, {none} without a crossing",
         rule.width,
         rule.step,
         rule.max_new_per_column,
-        columns.len() - none
+        columns.len()
     )];
     let mut wide: Vec<(f64, &ColumnStanding)> = columns
         .iter()
@@ -87,13 +94,12 @@ pub fn lines(
             })
             .collect(),
     };
-    let waiting = columns.iter().filter(|c| c.busy).count();
     out.push(format!(
         "{indent}next round: {} values in {} columns now{}",
         next.values,
         next.columns,
-        if waiting > 0 {
-            format!("; {waiting} columns wait for their points to finish first")
+        if running > 0 {
+            format!("; {running} columns wait for their points to finish first")
         } else {
             String::new()
         }

@@ -189,10 +189,19 @@ fn modelled(tallies: &[Tally]) -> (Vec<Tally>, Option<f64>) {
     let Some(first_walk) = pts.iter().position(walk_wins) else {
         return (pts, None);
     };
-    let Some(back) = pts[first_walk..].iter().position(train_wins) else {
+    // A fall-back is a point where training wins from which on, pooled, training still wins:
+    // one point below one half among dozens near a refined crossing is noise, not a second
+    // crossing.
+    let pooled_train_wins = |from: usize| {
+        let (w, t) = pts[from..]
+            .iter()
+            .fold((0, 0), |(w, t), p| (w + p.walk, t + p.train));
+        wilson(w, w + t).high < 0.5
+    };
+    let Some(back) = (first_walk..pts.len()).find(|&i| train_wins(&pts[i]) && pooled_train_wins(i))
+    else {
         return (pts, None);
     };
-    let back = first_walk + back;
     let last_walk = (first_walk..back)
         .rev()
         .find(|&i| walk_wins(&pts[i]))
@@ -411,6 +420,29 @@ mod tests {
         ];
         assert_eq!(fit_column(&flat), Err(NoModelCrossing::NoRise));
         assert_eq!(fit_column(&train[..2]), Err(NoModelCrossing::TooFew(2)));
+    }
+
+    #[test]
+    fn one_point_below_one_half_among_many_at_the_crossing_is_not_a_second_crossing() {
+        // L = 90, sigma = 5, alpha = 0.18 as refined: 62/96 at 40.0, then 19/56 at 40.15625,
+        // and walk-past winning beyond.
+        let col: Vec<Tally> = [
+            (30.0, 5, 27),
+            (34.0, 21, 67),
+            (39.5, 42, 54),
+            (40.0, 62, 34),
+            (40.15625, 19, 37),
+            (40.5, 47, 49),
+            (42.0, 58, 38),
+            (46.0, 58, 38),
+            (50.0, 45, 11),
+        ]
+        .iter()
+        .map(|&(b, w, t)| tally(b, w, t))
+        .collect();
+        let m = fit_column(&col).unwrap();
+        assert_eq!(m.cut_at, None, "{m:?}");
+        assert!(m.beta_star > 38.0 && m.beta_star < 42.0, "{m:?}");
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Any SPEC parameter as a grid axis (SPEC section 2): a sweep with `E0 = [1000, 3000]` in
 //! `[grid]` runs, resumes after a kill, exports and imports, and its E0 = 1000 points give the
 //! very preps and outcomes of a sweep with `E0 = 1000` fixed in `[params]` and the same seed.
-//! (Both engines: `tests/slurm.rs` runs the same sweep through Slurm.)
+//! (Both engines: `tests/slurm/rounds.rs` runs the same sweep through Slurm.)
 
 mod common;
 

@@ -147,16 +147,27 @@ fn submit_round(
     sweep: &Sweep,
     opts: &SubmitOptions,
 ) -> anyhow::Result<Option<i32>> {
-    // First take in what finished (an adaptive sweep's next round is planned from it), and
-    // wait while earlier arrays still run.
-    collect_sweep(store, sweep_id, &sweep.name)?;
+    // Ask the queue first, then take in what finished (an adaptive sweep's next round is
+    // planned from it), and wait while earlier arrays still run. In this order a task that ends
+    // between the two steps is still counted as running, so its results are collected next
+    // time; the other order could read its result file before the task wrote it, then see the
+    // array gone from the queue and send the job again.
     let ids: Vec<String> = store
         .arrays_of(sweep_id, SOLVER_VERSION)?
         .into_iter()
         .map(|a| a.slurm_job_id)
         .collect();
-    let active: usize =
-        slurm::queue_states(&ids).map_or(0, |states| states.iter().map(|(_, n)| n).sum());
+    let states = slurm::queue_states(&ids);
+    collect_sweep(store, sweep_id, &sweep.name)?;
+    // Without an answer from the queue, jobs still running would look lost and be sent again.
+    let Some(states) = states else {
+        if args.watch {
+            eprintln!("warning: squeue could not be run; waiting to see whether earlier arrays of {:?} still run", sweep.name);
+            return Ok(None);
+        }
+        bail!("squeue could not be run, so it is unknown whether earlier arrays of {:?} still run; submit again where squeue works", sweep.name);
+    };
+    let active: usize = states.iter().map(|(_, n)| n).sum();
     if active > 0 {
         if !args.watch {
             bail!("{active} array tasks of {:?} are still queued or running (squeue); wait for them or scancel them, then submit again", sweep.name);

@@ -6,7 +6,10 @@ is one, else the adaptive one, through `cellsweep fit --format json`, and prints
 a crossing (or one the grid's last beta leaves open): the model's beta* and 95% interval, the
 interval's width (bold above the target), the paper's interpolation, the points the model
 read, and the collisions at the crossing still needed for the target width (from
-Var(beta*) ~ 1 / (k^2 sum n p (1 - p)): a collision at p = 1/2 adds 1/4).
+Var(beta*) ~ 1 / (k^2 sum n p (1 - p)): a collision at p = 1/2 adds 1/4). Last, the columns'
+deviances pooled: their sum over their summed degrees of freedom is the dispersion the points
+show about their curves (1 for binomial scatter; above 1 if, say, the prep a point's replicates
+share spread the points more than their counts allow).
 
 Usage: scripts/line_table.py [CELLSWEEP] [WIDTH]
 """
@@ -21,6 +24,7 @@ width = float(sys.argv[2]) if len(sys.argv) > 2 else 1.0
 print("| L | sigma | alpha | beta* (model) [95%] | width | interpolated | points | still needed | data |")
 print("|---|---|---|---|---|---|---|---|---|")
 total = 0.0
+deviance, df = 0.0, 0
 for sigma in (5, 0):
     for L in (90, 80, 70):
         path = f"data/paper/refined-L{L}-sigma{sigma}.csv"
@@ -41,6 +45,8 @@ for sigma in (5, 0):
             lo, hi = c["beta_ci"]
             w = hi - lo
             model = c["model"]
+            deviance += model["deviance"]
+            df += model["df"]
             k = model["slope"]
             # The information the interval implies, and what a width of `width` needs
             # (aiming 3% below it, as the rounds stop at the first width under it).
@@ -56,3 +62,7 @@ for sigma in (5, 0):
                 f"{model['points']} | {needed} | {data} |"
             )
 print(f"\nstill needed in all: about {total:,.0f} collisions near the crossings")
+print(
+    f"pooled deviance of the column models: {deviance:.1f} on {df} df "
+    f"(dispersion {deviance / df:.2f})"
+)

@@ -174,6 +174,13 @@ fn flat(points: &[Tally]) -> f64 {
     term(w) + term(t)
 }
 
+/// Where a column that rises through one half significantly falls back to training: the beta
+/// from which the model leaves its points out, or None for a column that crosses at most once
+/// (one point below one half among dozens near a refined crossing is noise, not a fall-back).
+pub fn falls_back(tallies: &[Tally]) -> Option<f64> {
+    modelled(tallies).1
+}
+
 /// The points the model sees, in beta order: those with walk-past or training, and only up to
 /// the last point of the first walk-past stretch when the column significantly falls back to
 /// training after it (then also the beta from which points were left out).

@@ -42,7 +42,7 @@ pub mod throughput;
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use axes::{Axes, ColumnKey, Others, PointKey};
 pub use binomial::clopper_pearson;
-pub use column_model::{fit_column, ColumnModel, NoModelCrossing, Tally};
+pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, Tally};
 pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
 pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, Replicate};

@@ -301,6 +301,36 @@ mod tests {
     }
 
     #[test]
+    fn a_second_crossing_counts_against_the_transition_and_noise_at_a_refined_crossing_does_not() {
+        let mut refined = diagram("a", 90, 5.0, paper_line(90));
+        // Twenty added betas around the alpha = 0.16 crossing, where either outcome leads by
+        // chance: the sign of n_walk - n_train flips at every one of them.
+        let Results { counts, .. } = &mut refined;
+        for i in 0..20 {
+            let w = if i % 2 == 0 { 52 } else { 44 };
+            counts.push(Counts {
+                n_train: 96 - w,
+                n_walk: w,
+                ..Counts::none(0.16, 34.0 + 0.125 * i as f64, 90, 5.0)
+            });
+        }
+        assert_eq!(
+            verdict_of(&[refined], "There is a transition"),
+            Verdict::Reproduced
+        );
+        // A column that walks past over a band of beta and then trains again, clearly.
+        let twice = paper_line(90);
+        let back = [diagram("a", 90, 5.0, move |alpha, beta| {
+            if (alpha - 0.12).abs() < 1e-9 && beta >= 42.0 {
+                0.1
+            } else {
+                twice(alpha, beta)
+            }
+        })];
+        assert_eq!(verdict_of(&back, "There is a transition"), Verdict::Partly);
+    }
+
+    #[test]
     fn a_line_moved_by_the_paper_s_shift_is_measured_as_it() {
         let shifted =
             smooth(|alpha| Scales::default().beta_on_line(0.6, -12.0, alpha + 0.0134, 90, 5.0));

@@ -43,6 +43,12 @@ pub struct Shift {
     /// How the columns' beta* were read.
     #[serde(default = "interpolate")]
     pub method: Method,
+    /// With the model: Birge's ratio of the columns about the three-number model (a, b,
+    /// delta), by which delta's draws were widened where it is above 1. It measures how far
+    /// the columns lie off one straight line and one shift, in units of their own intervals:
+    /// narrower columns raise it rather than narrow delta.
+    #[serde(default)]
+    pub scatter: Option<f64>,
 }
 
 fn interpolate() -> Method {
@@ -114,6 +120,7 @@ pub fn measure_shift(
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut deltas = Vec::new();
+    let mut scatter = None;
     match method {
         Method::Interpolate => {
             for _ in 0..resamples {
@@ -126,6 +133,7 @@ pub fn measure_shift(
         }
         Method::Model => {
             let widen = model_scatter(&cols, scales, (a, b, delta));
+            scatter = Some(widen);
             for _ in 0..resamples {
                 let drawn: Vec<Column> = cols
                     .iter()
@@ -156,6 +164,7 @@ pub fn measure_shift(
         columns_sigma0: used(0.0),
         bootstrap: resamples,
         method,
+        scatter,
     })
 }
 
@@ -215,6 +224,51 @@ mod tests {
         // Every count is 0 or n: the resamples are the data, so is the interval.
         assert!((m.delta_ci[0] - 0.02).abs() < 1e-9 && (m.delta_ci[1] - 0.02).abs() < 1e-9);
         assert_eq!((m.columns_sigma5, m.columns_sigma0), (6, 6));
+    }
+
+    /// A column read by the model: 200 collisions at each beta within 6 of `star`, walk-past
+    /// at exactly the logistic share 1 / (1 + exp(-0.5 (beta - star))) of them.
+    fn logistic_column(l: u32, sigma: f64, alpha: f64, star: f64) -> Vec<Counts> {
+        (-6..=6)
+            .map(|i| {
+                let beta = star.round() + i as f64;
+                let w = (200.0 / (1.0 + (-0.5 * (beta - star)).exp())).round() as u64;
+                Counts {
+                    n_train: 200 - w,
+                    n_walk: w,
+                    ..Counts::none(alpha, beta, l, sigma)
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_model_s_scatter_says_when_the_columns_lie_off_one_line_and_one_shift() {
+        let s = Scales::default();
+        let on_line = |alpha: f64, l: u32| s.beta_on_line(0.6, -12.0, alpha, l, 5.0);
+        let measure = |off: f64| {
+            let mut counts = Vec::new();
+            for (k, l) in [90, 80, 70].into_iter().enumerate() {
+                for (j, alpha) in [0.12, 0.14, 0.16].into_iter().enumerate() {
+                    // `off` alternates in sign from column to column: not a line at all.
+                    let kink = if (k + j) % 2 == 0 { off } else { -off };
+                    counts.extend(logistic_column(l, 5.0, alpha, on_line(alpha, l) + kink));
+                    let star0 = on_line(alpha + 0.01, l) + kink;
+                    counts.extend(logistic_column(l, 0.0, alpha, star0));
+                }
+            }
+            measure_shift(&counts, &s, 200, 1, Method::Model).unwrap()
+        };
+        let straight = measure(0.0);
+        assert!((straight.delta - 0.01).abs() < 5e-4, "{straight:?}");
+        assert!(straight.scatter.unwrap() < 1.5, "{straight:?}");
+        let kinked = measure(1.5);
+        assert!(kinked.scatter.unwrap() > 3.0, "{kinked:?}");
+        let width = |m: &Shift| m.delta_ci[1] - m.delta_ci[0];
+        assert!(
+            width(&kinked) > 2.0 * width(&straight),
+            "{straight:?} {kinked:?}"
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{Column, Fit, NoFit};
+use cellsweep_stats::{Column, Fit, NoFit, Shift};
 
 use super::escape;
 use crate::analysis::{Analysis, RESAMPLES};
@@ -128,12 +128,43 @@ pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
                 s.columns_sigma0,
                 s.paper_delta
             );
+            scatter_note(h, &an.fit5, s);
         }
         (None, _) => h.push_str(
             "<p><b>The shift from σ = 5 to σ = 0</b> needs crossings at both σ: not measured \
              yet.</p>\n",
         ),
     }
+}
+
+/// How far the columns lie off the σ = 5 line and off the three-number model, in units of
+/// their own intervals (Birge's ratios): where well above 1, the line's straightness, not the
+/// columns' precision, sets the intervals of a, b and δ.
+fn scatter_note(h: &mut String, fit5: &Result<Fit, NoFit>, s: &Shift) {
+    let (
+        Ok(Fit {
+            scatter: Some(r5), ..
+        }),
+        Some(rd),
+    ) = (fit5, s.scatter)
+    else {
+        return;
+    };
+    let _ = writeln!(
+        h,
+        "<p>The σ = 5 columns scatter about their line {r5:.2} times as far as their 95% \
+         intervals allow, and all the columns about the three-number model (a, b, δ) {rd:.2} \
+         times (Birge's ratio; the intervals of a, b and δ are widened by it where it is above \
+         1). {}</p>",
+        if r5.max(rd) > 1.5 {
+            "Well above 1 means the crossings lie off one straight line in α̃/L̃ (and one \
+             shift) by more than they are uncertain: narrower columns would raise the ratio \
+             rather than narrow the line or δ; only more columns, or a model that is not a \
+             straight line, would."
+        } else {
+            "Near 1, the columns' own intervals set those of the line and δ."
+        }
+    );
 }
 
 pub(super) fn star_cell(c: &Column) -> String {

@@ -166,6 +166,9 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
         "Provenance",
         "cellsweep-solver",
         "Precision and cost",
+        "<b>The shift from σ = 5 to σ = 0</b>",
+        "<b>Column by column</b>",
+        "<th>δ_c [95%]</th>",
     ] {
         assert!(html.contains(need), "the report lacks {need:?}");
     }

@@ -13,7 +13,8 @@
 //!   gives a [`Fit`], its columns read by [`Method::Model`] or the paper's
 //!   [`Method::Interpolate`], the latter in [`interpolation`]); the line through columns
 //!   pooled from several sweeps, each at its own alpha~/L~ ([`fit_columns`]: the collapse
-//!   test); and the shift between two sigmas ([`measure_shift`]);
+//!   test); and the shift between two sigmas ([`measure_shift`]), one for all columns and each column's
+//!   own with the test of one for all ([`column_shifts`] gives [`ColumnShifts`]);
 //! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
 //!   [`ColumnNeed`]);
 //! - two result sets compared point by point ([`compare()`] gives a [`Comparison`]);
@@ -27,6 +28,7 @@ pub mod adaptive;
 pub mod axes;
 pub mod binomial;
 pub mod column_model;
+pub mod column_shift;
 pub mod compare;
 pub mod counts;
 pub mod distributions;
@@ -43,6 +45,7 @@ pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing
 pub use axes::{Axes, ColumnKey, Others, PointKey};
 pub use binomial::clopper_pearson;
 pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, Tally};
+pub use column_shift::{column_shifts, ColumnShift, ColumnShifts};
 pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
 pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, Replicate};

@@ -1,11 +1,12 @@
-//! The line's sections: the fit of beta_crit with its intervals and the shift, and beta* per
-//! column.
+//! The line's sections: the fit of beta_crit with its intervals (the shift follows it, in
+//! `shift`), beta* per column, and the cost.
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{Column, Fit, NoFit, Shift};
+use cellsweep_stats::{Column, Fit, NoFit};
 
 use super::escape;
+use super::shift::shift_section;
 use crate::analysis::{Analysis, RESAMPLES};
 use crate::Results;
 
@@ -107,64 +108,7 @@ pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
         }
     }
     h.push_str("</table>\n");
-    match (&an.shift, &an.shift_interpolated) {
-        (Some(s), interpolated) => {
-            let beside = interpolated.as_ref().map_or(String::new(), |i| {
-                format!(
-                    " (by interpolation: δ = {})",
-                    interval(i.delta, i.delta_ci, 4)
-                )
-            });
-            let _ = writeln!(
-                h,
-                "<p><b>The shift from σ = 5 to σ = 0</b>, measured without assuming it: the σ = 0 \
-                 crossings fitted as the σ = 5 line (a = {:.3}, b = {:.1}, unshifted α) moved \
-                 to smaller α by one δ for every L: <b>δ = {}</b> from {} columns at σ = 5 and \
-                 {} at σ = 0{beside}, against the paper's {}.</p>",
-                s.a,
-                s.b,
-                interval(s.delta, s.delta_ci, 4),
-                s.columns_sigma5,
-                s.columns_sigma0,
-                s.paper_delta
-            );
-            scatter_note(h, &an.fit5, s);
-        }
-        (None, _) => h.push_str(
-            "<p><b>The shift from σ = 5 to σ = 0</b> needs crossings at both σ: not measured \
-             yet.</p>\n",
-        ),
-    }
-}
-
-/// How far the columns lie off the σ = 5 line and off the three-number model, in units of
-/// their own intervals (Birge's ratios): where well above 1, the line's straightness, not the
-/// columns' precision, sets the intervals of a, b and δ.
-fn scatter_note(h: &mut String, fit5: &Result<Fit, NoFit>, s: &Shift) {
-    let (
-        Ok(Fit {
-            scatter: Some(r5), ..
-        }),
-        Some(rd),
-    ) = (fit5, s.scatter)
-    else {
-        return;
-    };
-    let _ = writeln!(
-        h,
-        "<p>The σ = 5 columns scatter about their line {r5:.2} times as far as their 95% \
-         intervals allow, and all the columns about the three-number model (a, b, δ) {rd:.2} \
-         times (Birge's ratio; the intervals of a, b and δ are widened by it where it is above \
-         1). {}</p>",
-        if r5.max(rd) > 1.5 {
-            "Well above 1 means the crossings lie off one straight line in α̃/L̃ (and one \
-             shift) by more than they are uncertain: narrower columns would raise the ratio \
-             rather than narrow the line or δ; only more columns, or a model that is not a \
-             straight line, would."
-        } else {
-            "Near 1, the columns' own intervals set those of the line and δ."
-        }
-    );
+    shift_section(h, an);
 }
 
 pub(super) fn star_cell(c: &Column) -> String {

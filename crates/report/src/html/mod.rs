@@ -14,6 +14,7 @@ mod collapse;
 mod diagrams;
 mod line;
 mod provenance;
+mod shift;
 
 use collapse::collapse_section;
 use diagrams::{checks_section, diagrams_section};

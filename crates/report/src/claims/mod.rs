@@ -246,6 +246,15 @@ mod tests {
         smooth(move |alpha| Scales::default().beta_on_line(0.6, -12.0, alpha, l, 5.0))
     }
 
+    /// The three sigma = 5 diagrams, each with walk-past above the paper's line.
+    fn paper_spacings() -> [Results; 3] {
+        [
+            diagram("a", 90, 5.0, paper_line(90)),
+            diagram("b", 70, 5.0, paper_line(70)),
+            diagram("c", 80, 5.0, paper_line(80)),
+        ]
+    }
+
     fn verdict_of(all: &[Results], quote_start: &str) -> Verdict {
         let an = Analysis::of(all);
         let c = evaluate(&an)
@@ -258,11 +267,7 @@ mod tests {
 
     #[test]
     fn the_paper_s_own_line_reproduces_the_spacing_claims_and_its_reverse_does_not() {
-        let paper = [
-            diagram("a", 90, 5.0, paper_line(90)),
-            diagram("b", 70, 5.0, paper_line(70)),
-            diagram("c", 80, 5.0, paper_line(80)),
-        ];
+        let paper = paper_spacings();
         for start in [
             "Training is far more common",
             "Collision outcomes with spacing L = 80",
@@ -340,11 +345,7 @@ mod tests {
 
     #[test]
     fn points_refinement_added_to_one_spacing_do_not_sway_the_spacing_comparisons() {
-        let paper = [
-            diagram("a", 90, 5.0, paper_line(90)),
-            diagram("b", 70, 5.0, paper_line(70)),
-            diagram("c", 80, 5.0, paper_line(80)),
-        ];
+        let paper = paper_spacings();
         let claims = [
             "Compared to the case of L = 90",
             "Collision outcomes with spacing L = 80",

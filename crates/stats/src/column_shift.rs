@@ -18,11 +18,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::axes::column_key;
-use crate::distributions::chi_square_survival;
+use crate::distributions::{chi_square_survival, Z95};
 use crate::fit::{Column, Scales};
-
-/// z of a two-sided 95% interval.
-const Z95: f64 = 1.959_963_984_540_054;
 
 /// One column's shift.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -188,15 +185,28 @@ mod tests {
         let first = &m.columns[0];
         assert_eq!((first.L, first.alpha), (70, 0.10));
         assert!((first.delta - 0.004).abs() < 1e-12);
-        assert!(m.mean > 0.004 && m.mean < 0.013);
+        // The mean, chi^2 and the mean's interval from the known shifts and spreads: each
+        // column's sd in alpha is sqrt(2) (0.25 / z) / (0.6 k(L)), weight 1 / sd^2.
+        let (mut sw, mut swd) = (0.0, 0.0);
+        let mut known = Vec::new();
+        for l in [90u32, 80, 70] {
+            let k = 2.0 * std::f64::consts::PI * 40.0 * 20f64.sqrt() * 40.0 / l as f64;
+            let sd = 2f64.sqrt() * 0.25 / 1.959_963_984_540_054 / (0.6 * k);
+            for j in 0..4 {
+                let (w, d) = (1.0 / (sd * sd), 0.004 + 0.003 * j as f64);
+                sw += w;
+                swd += w * d;
+                known.push((w, d));
+            }
+        }
+        let mean = swd / sw;
+        let chi2: f64 = known.iter().map(|(w, d)| w * (d - mean).powi(2)).sum();
+        assert!((m.mean - mean).abs() < 1e-12, "{m:?}");
+        assert!((m.chi2 / chi2 - 1.0).abs() < 1e-9, "{m:?} {chi2}");
         // The mean's interval is widened by the scatter: sqrt(chi^2 / df) times the spreads'.
-        let sw: f64 = m
-            .columns
-            .iter()
-            .map(|c| ((c.delta_ci[1] - c.delta_ci[0]) / (2.0 * Z95)).powi(-2))
-            .sum();
-        let half = Z95 / sw.sqrt() * (m.chi2 / 11.0).sqrt();
+        let half = 1.959_963_984_540_054 / sw.sqrt() * (chi2 / 11.0).sqrt();
         assert!((m.mean_ci[1] - m.mean - half).abs() < 1e-9, "{m:?}");
+        assert!((m.mean - m.mean_ci[0] - half).abs() < 1e-9, "{m:?}");
     }
 
     #[test]

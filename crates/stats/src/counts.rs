@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::axes::{Axes, ColumnKey, Others};
+use crate::distributions::Z95;
 
 /// The label of a grid point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -199,9 +200,6 @@ pub struct Fraction {
     pub low: f64,
     pub high: f64,
 }
-
-/// z of a two-sided 95% interval.
-const Z95: f64 = 1.959_963_984_540_054;
 
 /// k successes of n, with the 95% Wilson interval; NaN for n = 0.
 pub fn wilson(k: u64, n: u64) -> Fraction {

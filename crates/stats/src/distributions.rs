@@ -1,8 +1,12 @@
-//! The two reference distributions of the column model's checks: the chi-square survival
-//! function (the deviance's lack-of-fit test) and the 95% quantile of F(1, df) (the profile
-//! threshold once the dispersion is estimated).
+//! The reference distributions of the crate's intervals and checks: the normal's two-sided 95%
+//! z, the chi-square survival function (the deviance's lack-of-fit test, the shift's test of one
+//! delta) and the 95% quantile of F(1, df) (the profile threshold once the dispersion is
+//! estimated).
 
 use crate::binomial::{beta_inc_inverse, ln_gamma};
+
+/// z of a two-sided 95% interval of the normal.
+pub const Z95: f64 = 1.959_963_984_540_054;
 
 /// Q(a, x) = Gamma(a, x) / Gamma(a), the regularized upper incomplete gamma function (series
 /// below a + 1, Lentz's continued fraction above; Numerical Recipes 6.2).

@@ -13,10 +13,8 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::distributions::Z95;
 use crate::sampling::{percentile_95, standard_normal};
-
-/// z of a two-sided 95% interval.
-const Z95: f64 = 1.959_963_984_540_054;
 
 /// The line through the columns' beta*.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,8 +1,6 @@
 //! How the fiber spacing moves the outcomes (Fig. 4 and A1).
 
-use cellsweep_stats::Label;
-
-use cellsweep_stats::Counts;
+use cellsweep_stats::{Counts, Label};
 
 use super::{
     at, collided, graded, matched, no_data, paired_stars, pct, shared, star_rank, star_text, sums,
@@ -112,8 +110,9 @@ pub(super) fn intermediate_80(an: &Analysis<'_>) -> Claim {
         "Results, Fig. A1",
         "Collision outcomes with spacing L = 80 are intermediate between L = 70 and L = 90.",
         "σ = 5, over the (α, β) points collided in all three diagrams: reproduced when the \
-         training frequency at L = 80 lies between those at L = 70 and L = 90 and in at least 80% of the α columns β*(90) ≤ β*(80) ≤ β*(70); partly when \
-         one of the two holds; else not.",
+         training frequency at L = 80 lies between those at L = 70 and L = 90 and in at least \
+         80% of the α columns β*(90) ≤ β*(80) ≤ β*(70); partly when one of the two holds; else \
+         not.",
     );
     let (Some(a), Some(m), Some(b)) = (
         an.collection.diagram(70, 5.0),
@@ -132,13 +131,9 @@ pub(super) fn intermediate_80(an: &Analysis<'_>) -> Claim {
         .into_iter()
         .filter_map(|(x, y)| Some((x, y, at(b, x).filter(|z| z.collided())?)))
         .collect();
-    let freq = |points: Vec<&Counts>| {
-        let (t, _, _, n) = sums(points.into_iter());
-        (t, n)
-    };
-    let (t70, n70) = freq(common.iter().map(|p| p.0).collect());
-    let (t80, n80) = freq(common.iter().map(|p| p.1).collect());
-    let (t90, n90) = freq(common.iter().map(|p| p.2).collect());
+    let (t70, _, _, n70) = sums(common.iter().map(|p| p.0));
+    let (t80, _, _, n80) = sums(common.iter().map(|p| p.1));
+    let (t90, _, _, n90) = sums(common.iter().map(|p| p.2));
     let f = |t: u64, n: u64| t as f64 / n.max(1) as f64;
     let (f70, f80, f90) = (f(t70, n70), f(t80, n80), f(t90, n90));
     let between = (f80 - f70) * (f80 - f90) <= 0.0;
@@ -173,8 +168,8 @@ pub(super) fn intermediate_80(an: &Analysis<'_>) -> Claim {
         rule,
         evidence: format!(
             "training frequency over the {} points collided in all three: L = 70 {}, \
-             L = 80 {}, L = 90 {}; β* ordered in {ordered} of \
-             {total} columns (α: L = 90 / 80 / 70): {}",
+             L = 80 {}, L = 90 {}; β* ordered in {ordered} of {total} columns (α: L = 90 / \
+             80 / 70): {}",
             common.len(),
             pct(t70, n70),
             pct(t80, n80),

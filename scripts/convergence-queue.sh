@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Run the convergence sweeps of sweeps/convergence/ (issue 48, docs/convergence.md), each in a
+# store of its own (so they share the machine instead of waiting for one another), niced, one
+# worker each, exporting each to data/convergence/ every 10 minutes and at its end.
+# Resumable: run it again after any stop. On a new machine, first bring back what was exported:
+#   for f in data/convergence/conv-*.csv; do cellsweep import "$f" --db STORE_DIR/$(basename "$f" .csv).sqlite; done
+#
+# Usage: scripts/convergence-queue.sh STORE_DIR [SWEEP...] (SWEEP: a file name under
+# sweeps/convergence/ without .toml; default every file there). CELLSWEEP names the binary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+dir=${1:?usage: convergence-queue.sh STORE_DIR [SWEEP...]}
+shift
+exe=${CELLSWEEP:-target/release/cellsweep}
+mkdir -p "$dir" data/convergence
+queue=("$@")
+[ ${#queue[@]} -gt 0 ] || queue=($(cd sweeps/convergence && ls *.toml | sed 's/\.toml$//'))
+export_one() { # name store
+  "$exe" export --db "$2" --sweep "$1" --out "data/convergence/$1.csv.tmp" >/dev/null 2>&1 &&
+    mv "data/convergence/$1.csv.tmp" "data/convergence/$1.csv" || rm -f "data/convergence/$1.csv.tmp"
+}
+for s in "${queue[@]}"; do
+  name=$(sed -n 's/^name = "\(.*\)"/\1/p' "sweeps/convergence/$s.toml")
+  db="$dir/$name.sqlite"
+  (
+    nice -n 19 "$exe" run "sweeps/convergence/$s.toml" --db "$db" --workers 1 > "$dir/$name.log" 2>&1 &
+    pid=$!
+    while kill -0 "$pid" 2>/dev/null; do
+      for _ in $(seq 60); do kill -0 "$pid" 2>/dev/null || break; sleep 10; done
+      export_one "$name" "$db"
+    done
+    export_one "$name" "$db"
+  ) &
+done
+wait

@@ -16,14 +16,23 @@ PIDS="$STATE/pids"
 
 log() { echo "slurm-local: $*" >&2; }
 
-installed() { command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v munged >/dev/null; }
+installed() { command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v munged >/dev/null && command -v pgrep >/dev/null; }
 
 install() {
   installed && return 0
-  log "installing slurm-wlm and munge"
+  log "installing slurm-wlm, munge and procps"
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
-  apt-get install -y -qq --no-install-recommends slurm-wlm munge >/dev/null
+  apt-get install -y -qq --no-install-recommends slurm-wlm munge procps >/dev/null
+}
+
+# Record the pid of a daemon this script started (kept across restarts: `up` after one daemon
+# died appends the new one and keeps the others, so `down` stops all of them).
+remember() { # name
+  local pid
+  for pid in $(pgrep -x "$1"); do
+    grep -qx "$1 $pid" "$PIDS" 2>/dev/null || echo "$1 $pid" >> "$PIDS"
+  done
 }
 
 configure() {
@@ -75,14 +84,16 @@ CONF
 
 node_idle() { sinfo -h -o '%t' 2>/dev/null | grep -qE '^(idle|mix|alloc)'; }
 
+daemons_run() { pgrep -x munged >/dev/null && pgrep -x slurmctld >/dev/null && pgrep -x slurmd >/dev/null; }
+
 up() {
-  if node_idle; then
+  if command -v pgrep >/dev/null && daemons_run && node_idle; then
     log "already up"
     return 0
   fi
   install
   configure
-  : > "$PIDS"
+  touch "$PIDS"
   if ! pgrep -x munged >/dev/null; then
     if id munge >/dev/null 2>&1; then
       runuser -u munge -- /usr/sbin/munged --force
@@ -90,10 +101,10 @@ up() {
       /usr/sbin/munged --force
     fi
     sleep 0.5
-    pgrep -x munged >> "$PIDS"
+    remember munged
   fi
-  pgrep -x slurmctld >/dev/null || { /usr/sbin/slurmctld; sleep 1; pgrep -x slurmctld >> "$PIDS"; }
-  pgrep -x slurmd >/dev/null || { /usr/sbin/slurmd; sleep 1; pgrep -x slurmd >> "$PIDS"; }
+  pgrep -x slurmctld >/dev/null || { /usr/sbin/slurmctld; sleep 1; remember slurmctld; }
+  pgrep -x slurmd >/dev/null || { /usr/sbin/slurmd; sleep 1; remember slurmd; }
   for _ in $(seq 1 60); do
     if node_idle; then
       log "up: $(sinfo -h -o '%N %t %c CPUs')"
@@ -110,9 +121,13 @@ up() {
 
 down() {
   [ -f "$PIDS" ] || { log "nothing to stop"; return 0; }
-  # Daemons in reverse order of start.
-  tac "$PIDS" | while read -r pid; do
-    [ -n "$pid" ] && kill "$pid" 2>/dev/null || true
+  # Daemons in reverse order of start, each only while its pid is still that daemon (a pid
+  # file from before a restart may name a process that has since gone, or another process).
+  tac "$PIDS" | while read -r name pid; do
+    [ -n "$pid" ] || { pid=$name; name=; }   # the one-column file of earlier versions
+    if [ -z "$name" ] || [ "$(cat /proc/"$pid"/comm 2>/dev/null)" = "$name" ]; then
+      kill "$pid" 2>/dev/null || true
+    fi
   done
   rm -f "$PIDS"
   log "down"

@@ -39,6 +39,10 @@ pub struct RunArgs {
     /// rest would cost, writing nothing.
     #[arg(long, conflicts_with_all = ["retry_failed", "replace", "plot"])]
     pub dry_run: bool,
+    /// Run even while the sweep has Slurm arrays queued or running (or squeue cannot tell):
+    /// their jobs are computed here too, and what they send later is taken as already done.
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Debug, Args)]
@@ -106,6 +110,10 @@ pub struct SubmitArgs {
     /// Seconds between looks at the queue with --watch.
     #[arg(long, default_value_t = 30.0, value_name = "SECONDS", value_parser = poll_seconds)]
     pub poll: f64,
+    /// With --watch, how long squeue or sbatch may keep failing (each failure waited out, the
+    /// waits doubling from --poll up to 5 minutes) before the watch gives up.
+    #[arg(long, default_value_t = 3600.0, value_name = "SECONDS", value_parser = poll_seconds)]
+    pub give_up_after: f64,
 }
 
 fn job_timeout_flag(s: &str) -> Result<f64, String> {

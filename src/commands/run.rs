@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use anyhow::Context;
+use anyhow::{bail, Context};
 use cellsweep_scheduler::{
     plan, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
 };
@@ -31,6 +31,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     store.check_integrity()?;
+    if !args.force {
+        refuse_while_on_slurm(&store, &sweep.name)?;
+    }
     let reg = store.register(&new, args.replace)?;
     announce(&sweep, &new, &reg, &args.db.db);
 
@@ -141,6 +144,27 @@ fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
             "  from {from} replicates per point: the results already stored are kept, and only the \
              new replicates run (a replicate's seed depends on its index, not on the count)"
         );
+    }
+}
+
+/// A local run of a sweep whose Slurm arrays are still queued would compute their jobs a second
+/// time: refused (as where squeue cannot tell), unless `--force`.
+fn refuse_while_on_slurm(store: &Store, name: &str) -> anyhow::Result<()> {
+    let Ok(id) = store.sweep_id(name) else {
+        return Ok(());
+    };
+    let arrays = store.open_arrays_of(id, SOLVER_VERSION)?;
+    if arrays.is_empty() {
+        return Ok(());
+    }
+    let labels: Vec<String> = arrays.iter().map(|a| a.label()).collect();
+    match cellsweep_scheduler::slurm::queue_of(name, &arrays) {
+        Ok(states) if states.is_empty() => Ok(()),
+        Ok(states) => {
+            let n: usize = states.iter().map(|(_, n)| n).sum();
+            bail!("{n} array tasks of {name:?} are still queued or running on Slurm (arrays {}): a local run would compute their jobs again; wait for them (cellsweep submit --watch, or collect), scancel them, or pass --force", labels.join(", "))
+        }
+        Err(e) => bail!("{name:?} has Slurm arrays not yet seen to end ({}) and {e}, so whether they still run is unknown; run where squeue answers, or pass --force", labels.join(", ")),
     }
 }
 

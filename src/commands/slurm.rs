@@ -2,22 +2,27 @@
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::slurm::{self, SubmitOptions};
-use cellsweep_scheduler::{plan, StoreLock, Sweep};
+use cellsweep_scheduler::{plan, SlurmError, StoreLock, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::{NewSweep, Store};
 
 use crate::cli::{CollectArgs, SubmitArgs};
 
-fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result<()> {
-    let mut dirs: Vec<String> = store
-        .arrays_of(sweep_id, SOLVER_VERSION)?
-        .into_iter()
-        .map(|a| a.run_dir)
-        .collect();
-    dirs.sort();
-    dirs.dedup();
-    for d in dirs {
-        let c = slurm::collect(store, sweep_id, SOLVER_VERSION, std::path::Path::new(&d))?;
+/// Take stock of a sweep's Slurm run (queue, run directories, arrays that ended) and say
+/// what it found; the queue's answer, or why there is none.
+fn take_stock(
+    store: &mut Store,
+    sweep_id: i64,
+    name: &str,
+) -> anyhow::Result<Result<slurm::Queue, slurm::QueueError>> {
+    let stock = slurm::take_stock(store, sweep_id, name, SOLVER_VERSION)?;
+    if stock.found_again > 0 {
+        println!(
+            "found again {} array(s) of {name:?} that a stop had left recorded without their Slurm id",
+            stock.found_again
+        );
+    }
+    for (d, c) in &stock.collected {
         for p in &c.problems {
             eprintln!("warning: {p}");
         }
@@ -25,7 +30,6 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
             "collected {name:?} from {d}: {} preps and {} results new, {} already in the store, {} failed attempts recorded",
             c.preps, c.results, c.already, c.failures
         );
-
         if c.planned > 0 {
             println!(
                 "  planned the next round: {} more jobs (adaptive replicates, refined points)",
@@ -33,7 +37,29 @@ fn collect_sweep(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result
             );
         }
     }
-    Ok(())
+    for k in &stock.ended.failures {
+        println!(
+            "  {} {} ended without a result ({}): a failed attempt each; {}: {}",
+            k.count,
+            plural(k.count, "job or prep", "jobs or preps"),
+            k.kind,
+            if k.count == 1 {
+                "the reason"
+            } else {
+                "the first"
+            },
+            k.example
+        );
+    }
+    Ok(stock.queue)
+}
+
+fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
+    if n == 1 {
+        one
+    } else {
+        many
+    }
 }
 
 pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
@@ -58,12 +84,48 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
         let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
         println!("retrying {n} failed jobs and preps");
     }
+    // With --watch, a queue or an sbatch that fails is waited out: tried again after a wait
+    // that doubles (from --poll, at most 5 minutes) until it has failed for --give-up-after.
+    let mut trouble: Option<(std::time::Instant, u32)> = None;
     loop {
-        if let Some(code) = submit_round(&args, &mut store, reg.sweep_id, &sweep, &opts)? {
-            return Ok(code);
-        }
-        std::thread::sleep(std::time::Duration::from_secs_f64(args.poll));
+        let wait = match submit_round(&args, &mut store, reg.sweep_id, &sweep, &opts) {
+            Ok(Some(code)) => return Ok(code),
+            Ok(None) => {
+                trouble = None;
+                args.poll
+            }
+            Err(e) if args.watch && transient(&e) => {
+                let (since, n) = trouble.get_or_insert((std::time::Instant::now(), 0));
+                *n += 1;
+                let failing = since.elapsed().as_secs_f64();
+                if failing >= args.give_up_after {
+                    bail!(
+                        "{e}; it has failed for {failing:.0} s (--give-up-after {}), so the watch stops; nothing was sent for jobs that may still be queued: run submit --watch again when Slurm answers",
+                        args.give_up_after
+                    );
+                }
+                let wait = (args.poll * 2f64.powi(*n as i32 - 1))
+                    .min(300f64.max(args.poll))
+                    .min(args.give_up_after - failing);
+                eprintln!(
+                    "warning: {e}; trying again in {wait:.1} s (failure {n}; the watch gives up after {} s of failures)",
+                    args.give_up_after
+                );
+                wait
+            }
+            Err(e) => return Err(e),
+        };
+        std::thread::sleep(std::time::Duration::from_secs_f64(wait.max(0.0)));
     }
+}
+
+/// Whether an error of a submit round is Slurm not answering now (the queue, or sbatch), which
+/// a watch waits out.
+fn transient(e: &anyhow::Error) -> bool {
+    matches!(
+        e.downcast_ref::<SlurmError>(),
+        Some(SlurmError::Queue(_) | SlurmError::Sbatch { .. })
+    ) || e.downcast_ref::<slurm::QueueError>().is_some()
 }
 
 /// The submission's options from the flags (the sweep file's `[run]` for attempts), checked;
@@ -147,27 +209,24 @@ fn submit_round(
     sweep: &Sweep,
     opts: &SubmitOptions,
 ) -> anyhow::Result<Option<i32>> {
-    // Ask the queue first, then take in what finished (an adaptive sweep's next round is
-    // planned from it), and wait while earlier arrays still run. In this order a task that ends
-    // between the two steps is still counted as running, so its results are collected next
-    // time; the other order could read its result file before the task wrote it, then see the
-    // array gone from the queue and send the job again.
-    let ids: Vec<String> = store
-        .arrays_of(sweep_id, SOLVER_VERSION)?
-        .into_iter()
-        .map(|a| a.slurm_job_id)
-        .collect();
-    let states = slurm::queue_states(&ids);
-    collect_sweep(store, sweep_id, &sweep.name)?;
-    // Without an answer from the queue, jobs still running would look lost and be sent again.
-    let Some(states) = states else {
+    // The queue is asked before the run directory is read (slurm::take_stock), so a task that
+    // ends between the two is still counted as running and collected next time. Without an
+    // answer from the queue nothing is sent: jobs still queued would look lost.
+    let queue = take_stock(store, sweep_id, &sweep.name)?;
+    let queue = queue.map_err(|e| {
         if args.watch {
-            eprintln!("warning: squeue could not be run; waiting to see whether earlier arrays of {:?} still run", sweep.name);
-            return Ok(None);
+            anyhow::Error::new(e)
+        } else {
+            anyhow::anyhow!("{e}: it is unknown whether earlier arrays of {:?} still run, so nothing was sent; submit again when squeue answers (or use --watch, which waits)", sweep.name)
         }
-        bail!("squeue could not be run, so it is unknown whether earlier arrays of {:?} still run; submit again where squeue works", sweep.name);
-    };
-    let active: usize = states.iter().map(|(_, n)| n).sum();
+    })?;
+    let ids: Vec<String> = store
+        .open_arrays_of(sweep_id, SOLVER_VERSION)?
+        .into_iter()
+        .filter_map(|a| a.slurm_job_id)
+        .collect();
+    let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
+    let active: usize = queue.states_of(&ids).iter().map(|(_, n)| n).sum();
     if active > 0 {
         if !args.watch {
             bail!("{active} array tasks of {:?} are still queued or running (squeue); wait for them or scancel them, then submit again", sweep.name);
@@ -243,7 +302,11 @@ pub fn collect(args: CollectArgs) -> anyhow::Result<()> {
     };
     for name in names {
         let id = store.sweep_id(&name)?;
-        collect_sweep(&mut store, id, &name)?;
+        if let Err(e) = take_stock(&mut store, id, &name)? {
+            eprintln!(
+                "warning: {e}: tasks that ended without results are examined once squeue answers"
+            );
+        }
     }
     Ok(())
 }

@@ -71,11 +71,11 @@ fn json_rows(store: &Store, all: &[SweepStatus], failed: bool) -> anyhow::Result
             v["failures"] = serde_json::to_value(store.failures(id, &s.solver_version)?)?;
         }
         if !arrays.is_empty() {
-            let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
-            v["slurm"] = serde_json::json!({
-                "arrays": arrays,
-                "queue": cellsweep_scheduler::slurm::queue_states(&ids),
-            });
+            let queue = match cellsweep_scheduler::slurm::queue_of(&s.sweep, &arrays) {
+                Ok(states) => serde_json::json!(states),
+                Err(e) => serde_json::json!({ "unknown": e.to_string() }),
+            };
+            v["slurm"] = serde_json::json!({ "arrays": arrays, "queue": queue });
         }
         rows.push(v);
     }
@@ -115,7 +115,7 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<(
         print_refinement(store, &s.sweep)?;
     }
     if let Ok(id) = store.sweep_id(&s.sweep) {
-        print_arrays(store, id, &s.solver_version)?;
+        print_arrays(store, &s.sweep, id, &s.solver_version)?;
     }
     if failed {
         print_failures(store, &s.sweep, &s.solver_version)?;
@@ -139,24 +139,20 @@ fn print_refinement(store: &Store, sweep: &str) -> anyhow::Result<()> {
 }
 
 /// The sweep's Slurm arrays and the states of their tasks in the queue.
-fn print_arrays(store: &Store, id: i64, version: &str) -> anyhow::Result<()> {
+fn print_arrays(store: &Store, sweep: &str, id: i64, version: &str) -> anyhow::Result<()> {
     let arrays = store.arrays_of(id, version)?;
     if !arrays.is_empty() {
-        let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
-        let queue = cellsweep_scheduler::slurm::queue_states(&ids).map_or(
-            "squeue unavailable".to_string(),
-            |st| {
-                if st.is_empty() {
-                    "none queued or running".to_string()
-                } else {
-                    st.iter()
-                        .map(|(k, n)| format!("{n} {k}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                }
-            },
-        );
-        println!("  slurm    arrays {} · tasks: {queue}", ids.join(", "));
+        let queue = match cellsweep_scheduler::slurm::queue_of(sweep, &arrays) {
+            Err(e) => format!("the queue could not be asked ({e})"),
+            Ok(st) if st.is_empty() => "none queued or running".to_string(),
+            Ok(st) => st
+                .iter()
+                .map(|(k, n)| format!("{n} {k}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        };
+        let labels: Vec<String> = arrays.iter().map(|a| a.label()).collect();
+        println!("  slurm    arrays {} · tasks: {queue}", labels.join(", "));
     }
     Ok(())
 }

@@ -7,6 +7,7 @@ mod common;
 
 mod array_tasks;
 mod collect;
+mod failures;
 mod rounds;
 
 use std::path::{Path, PathBuf};

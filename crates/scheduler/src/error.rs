@@ -126,6 +126,12 @@ pub enum SlurmError {
     /// A value, directory or answer that cannot be used, with the reason.
     #[error("{0}")]
     Refused(String),
+    /// squeue did not answer: whether the sweep's arrays still run is unknown.
+    #[error(transparent)]
+    Queue(#[from] crate::slurm::QueueError),
+    /// sbatch did not take an array (nothing of it was queued).
+    #[error("sbatch {script} failed: {message}")]
+    Sbatch { script: String, message: String },
 }
 
 impl From<String> for SlurmError {

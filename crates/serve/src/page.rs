@@ -264,7 +264,7 @@ fn arrays(h: &mut String, v: &SweepView) {
             h,
             "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
              <td>{}</td></tr>",
-            escape(&a.slurm_job_id),
+            escape(&a.label()),
             escape(&a.kind),
             a.tasks,
             a.jobs,
@@ -273,9 +273,9 @@ fn arrays(h: &mut String, v: &SweepView) {
     }
     h.push_str("</table>\n");
     let queue = match &v.queue {
-        None => "squeue unavailable".to_string(),
-        Some(q) if q.is_empty() => "none queued or running".to_string(),
-        Some(q) => q
+        Err(e) => format!("the queue could not be asked ({})", escape(e)),
+        Ok(q) if q.is_empty() => "none queued or running".to_string(),
+        Ok(q) => q
             .iter()
             .map(|(k, n)| format!("{n} {}", escape(k)))
             .collect::<Vec<_>>()

@@ -32,8 +32,8 @@ pub struct SweepView {
     /// The command that puts the failures back to pending and runs them.
     pub retry: Option<String>,
     pub arrays: Vec<SlurmArray>,
-    /// States of the arrays' tasks in Slurm's queue (None where squeue cannot be asked).
-    pub queue: Option<Vec<(String, usize)>>,
+    /// States of the arrays' tasks in Slurm's queue, or why squeue gave no answer.
+    pub queue: Result<Vec<(String, usize)>, String>,
     /// The diagrams as inline SVG, or why they are not drawn.
     #[serde(skip)]
     pub diagrams: Result<Vec<String>, String>,
@@ -113,13 +113,8 @@ fn sweep_view(store: &Store, path: &Path, status: SweepStatus) -> Result<SweepVi
     let arrays = store
         .arrays_of(id, &status.solver_version)
         .map_err(|x| e(&x))?;
-    let queue = match arrays.is_empty() {
-        true => Some(Vec::new()),
-        false => {
-            let ids: Vec<String> = arrays.iter().map(|a| a.slurm_job_id.clone()).collect();
-            cellsweep_scheduler::slurm::queue_states(&ids)
-        }
-    };
+    let queue =
+        cellsweep_scheduler::slurm::queue_of(&status.sweep, &arrays).map_err(|e| e.to_string());
     let open = standings
         .as_ref()
         .and_then(|s| s.get("open"))

@@ -7,8 +7,8 @@ use rusqlite::{params, Connection, ErrorCode, OpenFlags, OptionalExtension};
 
 use crate::error::{Result, StoreError};
 use crate::schema::{
-    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, MIGRATE_3_TO_4, MIGRATE_4_TO_5, PLANS,
-    PROGRESS, READ_SCHEMAS, SCHEMA_VERSION,
+    APPLICATION, DDL, MIGRATE_1_TO_2, MIGRATE_2_TO_3, MIGRATE_3_TO_4, MIGRATE_4_TO_5,
+    MIGRATE_5_TO_6, PLANS, PROGRESS, READ_SCHEMAS, SCHEMA_VERSION,
 };
 
 /// A cellsweep SQLite database.
@@ -166,6 +166,9 @@ impl Store {
         if self.schema <= 4 {
             tx.execute_batch(PLANS)?;
             tx.execute_batch(MIGRATE_4_TO_5)?;
+        }
+        if self.schema <= 5 {
+            tx.execute_batch(MIGRATE_5_TO_6)?;
         }
         tx.commit()?;
         self.schema = SCHEMA_VERSION;

@@ -10,11 +10,17 @@
 /// indexes finished jobs by time, so that `status` reads ten million jobs in milliseconds
 /// ([`MIGRATE_3_TO_4`]). Version 5 stores a point's jobs as a plan until they are needed
 /// ([`PLANS`]): registering ten million jobs writes one row per point, not one per job
-/// ([`MIGRATE_4_TO_5`]).
-pub const SCHEMA_VERSION: u32 = 5;
+/// ([`MIGRATE_4_TO_5`]). Version 6 records a Slurm array before `sbatch` is run (its job id
+/// empty until sbatch answers), with its submission directory, and the time it was seen to have
+/// left the queue and its tasks were examined ([`MIGRATE_5_TO_6`]).
+pub const SCHEMA_VERSION: u32 = 6;
 
 /// Versions a reader opens as they are.
-pub const READ_SCHEMAS: [u32; 5] = [1, 2, 3, 4, 5];
+pub const READ_SCHEMAS: [u32; 6] = [1, 2, 3, 4, 5, 6];
+
+/// The first layout whose `slurm_arrays` has `sub_dir` and `ended_at` (and a job id that may
+/// be empty while the array is being submitted).
+pub const ARRAYS_SCHEMA: u32 = 6;
 
 /// The first layout with `point_plans`: every version before it holds a row for every job.
 pub const PLANS_SCHEMA: u32 = 5;
@@ -118,17 +124,21 @@ CREATE TABLE results (
     breakup_reason  TEXT
 );
 
--- Slurm job arrays submitted for a sweep (`cellsweep submit`).
+-- Slurm job arrays of a sweep (`cellsweep submit`): written before sbatch runs (job id NULL
+-- while it is being submitted), completed with the id sbatch gives, and marked ended once the
+-- array has left the queue and its tasks were examined for jobs they left without a result.
 CREATE TABLE slurm_arrays (
     id             INTEGER PRIMARY KEY,
     sweep_id       INTEGER NOT NULL REFERENCES sweeps(id),
     solver_version TEXT NOT NULL,
     kind           TEXT NOT NULL CHECK (kind IN ('prep', 'collide')),
-    slurm_job_id   TEXT NOT NULL,
+    slurm_job_id   TEXT,
     run_dir        TEXT NOT NULL,
+    sub_dir        TEXT,
     tasks          INTEGER NOT NULL,
     jobs           INTEGER NOT NULL,
-    submitted_at   REAL NOT NULL
+    submitted_at   REAL NOT NULL,
+    ended_at       REAL
 );
 
 CREATE INDEX jobs_by_point ON jobs(point_id, solver_version, state);
@@ -241,6 +251,33 @@ CREATE TABLE point_plans (
 -- The plans with jobs still to write, by point (in a sweep's grid order).
 CREATE INDEX point_plans_open ON point_plans(point_id, solver_version)
     WHERE planned > materialized;
+"#;
+
+/// Version 5 to 6: `slurm_arrays` gains `sub_dir` and `ended_at`, and its job id may be NULL
+/// (an array being submitted). Rebuilt with its rows (SQLite cannot drop a NOT NULL in place);
+/// written out here, frozen at the layout of version 6. Arrays recorded before have no
+/// submission directory: they are marked ended when they leave the queue, not examined.
+pub const MIGRATE_5_TO_6: &str = r#"
+CREATE TABLE slurm_arrays_v6 (
+    id             INTEGER PRIMARY KEY,
+    sweep_id       INTEGER NOT NULL REFERENCES sweeps(id),
+    solver_version TEXT NOT NULL,
+    kind           TEXT NOT NULL CHECK (kind IN ('prep', 'collide')),
+    slurm_job_id   TEXT,
+    run_dir        TEXT NOT NULL,
+    sub_dir        TEXT,
+    tasks          INTEGER NOT NULL,
+    jobs           INTEGER NOT NULL,
+    submitted_at   REAL NOT NULL,
+    ended_at       REAL
+);
+INSERT INTO slurm_arrays_v6 (id, sweep_id, solver_version, kind, slurm_job_id, run_dir, tasks,
+    jobs, submitted_at)
+  SELECT id, sweep_id, solver_version, kind, slurm_job_id, run_dir, tasks, jobs, submitted_at
+  FROM slurm_arrays;
+DROP TABLE slurm_arrays;
+ALTER TABLE slurm_arrays_v6 RENAME TO slurm_arrays;
+UPDATE meta SET value = '6' WHERE key = 'schema_version';
 "#;
 
 /// Version 4 to 5: [`PLANS`], every job of a store before it being a row already.

@@ -323,7 +323,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     drop(read);
     assert_eq!(version(&path), "2", "a reader changes nothing");
     let mut store = Store::open(&path).unwrap();
-    assert_eq!(version(&path), "5");
+    assert_eq!(version(&path), "6");
     // The counts kept since version 4 start from the jobs as they were.
     assert_eq!(store.status().unwrap(), before);
     let j = pending(&mut store, reg.sweep_id, "v1")[0].id;
@@ -334,6 +334,57 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     );
     assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
     assert_eq!(store.status().unwrap()[0].outcomes.train, 1);
+}
+
+#[test]
+fn a_version_5_store_keeps_its_slurm_arrays_when_migrated_and_records_the_next_before_sbatch() {
+    let path = tmp("migrate-arrays");
+    let mut store = Store::open_or_create(&path).unwrap();
+    let reg = store.register(&sweep("{\"a\":1}", "v1"), false).unwrap();
+    drop(store);
+    // The layout of version 5: slurm_arrays with a job id always, no sub_dir, no ended_at.
+    let c = rusqlite::Connection::open(&path).unwrap();
+    c.execute_batch(&format!(
+        "DROP TABLE slurm_arrays;
+         CREATE TABLE slurm_arrays (id INTEGER PRIMARY KEY, sweep_id INTEGER NOT NULL,
+             solver_version TEXT NOT NULL, kind TEXT NOT NULL, slurm_job_id TEXT NOT NULL,
+             run_dir TEXT NOT NULL, tasks INTEGER NOT NULL, jobs INTEGER NOT NULL,
+             submitted_at REAL NOT NULL);
+         INSERT INTO slurm_arrays VALUES (1, {}, 'v1', 'collide', '149', '/runs/x', 3, 8, 5.0);
+         UPDATE meta SET value = '5' WHERE key = 'schema_version';",
+        reg.sweep_id
+    ))
+    .unwrap();
+    drop(c);
+    // A reader sees the old array as it is.
+    let read = Store::open_read(&path).unwrap();
+    let old = read.arrays_of(reg.sweep_id, "v1").unwrap();
+    assert_eq!(old.len(), 1);
+    assert_eq!(old[0].slurm_job_id.as_deref(), Some("149"));
+    assert_eq!((old[0].sub_dir.clone(), old[0].ended_at), (None, None));
+    drop(read);
+    let mut store = Store::open(&path).unwrap();
+    assert_eq!(store.arrays_of(reg.sweep_id, "v1").unwrap(), old);
+    // A new array: recorded without an id, then completed; another refused and forgotten.
+    let mut a = old[0].clone();
+    a.sub_dir = Some("/runs/x/sub-0002-1".into());
+    let row = store.begin_array(reg.sweep_id, "v1", &a).unwrap();
+    let refused = store.begin_array(reg.sweep_id, "v1", &a).unwrap();
+    assert_eq!(
+        store.open_arrays_of(reg.sweep_id, "v1").unwrap()[1].slurm_job_id,
+        None
+    );
+    store.array_submitted(row, "150").unwrap();
+    store.forget_array(refused).unwrap();
+    store.array_ended(old[0].id, 9.0).unwrap();
+    let now = store.arrays_of(reg.sweep_id, "v1").unwrap();
+    assert_eq!(now.len(), 2);
+    assert_eq!(now[0].ended_at, Some(9.0));
+    assert_eq!(now[1].slurm_job_id.as_deref(), Some("150"));
+    assert_eq!(now[1].sub_dir.as_deref(), Some("/runs/x/sub-0002-1"));
+    let open = store.open_arrays_of(reg.sweep_id, "v1").unwrap();
+    assert_eq!(open.len(), 1);
+    assert_eq!(open[0].id, row);
 }
 
 /// The rows of `sql` (its first `cols` columns), each as one line of text.

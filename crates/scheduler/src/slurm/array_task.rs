@@ -18,12 +18,37 @@ extern "C" fn on_usr1(_: libc::c_int) {
 /// The array task's side: run the requests of `SUB_DIR/tasks/<kind>/<SLURM_ARRAY_TASK_ID>.jsonl`
 /// that have no result yet, appending each response to `SUB_DIR/results/<kind>-<task>.jsonl`.
 /// On SIGUSR1 (Slurm's warning before the time limit) it stops after the current record.
+/// A task that stops before its last record says why in its exit marker
+/// (`SUB_DIR/exits/<kind>-<task>.txt`, one line, best effort: the run directory may be what
+/// failed), which `collect` gives as the reason of the jobs left without a result.
 pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
     // SAFETY: the handler only stores to an atomic.
     unsafe {
         libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
     }
     let task = array_task_id()?;
+    let outcome = serve_task(sub_dir, kind, task);
+    let why = match &outcome {
+        Ok(Some(stopped)) => Some(stopped.clone()),
+        Ok(None) => None,
+        Err(e) => Some(format!("the worker failed: {e}")),
+    };
+    if let Some(why) = why {
+        let dir = sub_dir.join("exits");
+        let _ = std::fs::create_dir_all(&dir)
+            .map_err(|e| io(e, &dir))
+            .and_then(|_| write_atomic(&exit_marker(sub_dir, kind, task), why.as_bytes()));
+    }
+    outcome.map(|_| ())
+}
+
+/// Where an array task says why it stopped early.
+pub(crate) fn exit_marker(sub_dir: &Path, kind: &str, task: usize) -> std::path::PathBuf {
+    sub_dir.join(format!("exits/{kind}-{task}.txt"))
+}
+
+/// The task's records; `Some(why)` where it stopped before the last.
+fn serve_task(sub_dir: &Path, kind: &str, task: usize) -> Result<Option<String>, SlurmError> {
     let tasks = sub_dir.join(format!("tasks/{kind}/{task}.jsonl"));
     let results = sub_dir.join(format!("results/{kind}-{task}.jsonl"));
     let preps_dir = sub_dir
@@ -42,7 +67,10 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
     for (k, line) in lines.iter().enumerate() {
         if STOP.load(Ordering::SeqCst) {
             eprintln!("SIGUSR1: stopping before the time limit; the rest is resubmitted by `cellsweep submit`");
-            break;
+            return Ok(Some(format!(
+                "time limit: the task had Slurm's warning before its time limit (SIGUSR1) after {k} of its {} records",
+                lines.len()
+            )));
         }
         let mut req: Request =
             serde_json::from_str(line).map_err(|e| format!("{}: {e}", tasks.display()))?;
@@ -55,19 +83,34 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
             k + 1,
             lines.len()
         );
+        let mut unreadable = None;
         if let Request::Collide { prep_id, prep, .. } = &mut req {
-            match read_prep(&preps_dir.join(format!("{prep_id}.json"))) {
+            let path = preps_dir.join(format!("{prep_id}.json"));
+            match read_prep(&path) {
                 Ok(p) => *prep = Some(Box::new(p)),
-                Err(error) => {
-                    // The job could not start: that is its prep's failure (recorded from the
-                    // prep task), not an attempt of its own. It stays pending, and the next
-                    // `submit` sends it again with its prep.
+                // No file: its prep task has not made it (it failed, or ran out of time). That
+                // is the prep's failure, not an attempt of the job's: the job stays pending,
+                // and the next `submit` sends it again with its prep.
+                Err(error) if !path.exists() => {
                     eprintln!("{kind} task {task}: job {} skipped: {error}", req.task());
                     continue;
                 }
+                // A file that cannot be read is damaged: the job fails an attempt through the
+                // ledger like any other, and the next `submit` writes the file again.
+                Err(error) => unreadable = Some(format!("cannot read its prep file: {error}")),
             }
         }
-        let resp = crate::worker::answer(req, &mut cache);
+        let resp = match unreadable {
+            Some(error) => {
+                eprintln!("{kind} task {task}: job {} failed: {error}", req.task());
+                Response::Failed {
+                    task: req.task(),
+                    attempt: req.attempt(),
+                    error,
+                }
+            }
+            None => crate::worker::answer(req, &mut cache),
+        };
         if let Response::Prep { task, prep, .. } = &resp {
             let path = preps_dir.join(format!("{task}.json"));
             // The prep file itself is the result.
@@ -79,7 +122,7 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
             out.sync_data().map_err(|e| io(e, &results))?;
         }
     }
-    Ok(())
+    Ok(None)
 }
 
 /// This array task's index, from Slurm.
@@ -111,7 +154,7 @@ fn open_records(results: &Path) -> Result<std::fs::File, SlurmError> {
 }
 
 /// The prep file a collide record needs.
-fn read_prep(path: &Path) -> Result<PrepPayload, SlurmError> {
+pub(super) fn read_prep(path: &Path) -> Result<PrepPayload, SlurmError> {
     let text = std::fs::read_to_string(path).map_err(|e| io(e, path))?;
     serde_json::from_str::<PrepPayload>(&text)
         .map_err(|e| format!("{}: {e}", path.display()).into())

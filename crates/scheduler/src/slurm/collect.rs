@@ -11,8 +11,15 @@ use crate::wire::{PrepPayload, Response};
 
 /// Complete responses of a results file, and the problems met (a torn or malformed line).
 pub fn read_responses(path: &Path) -> (Vec<Response>, Vec<String>) {
-    let Ok(bytes) = std::fs::read(path) else {
-        return (Vec::new(), Vec::new());
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return (Vec::new(), Vec::new()),
+        Err(e) => {
+            return (
+                Vec::new(),
+                vec![format!("{}: cannot be read, skipped: {e}", path.display())],
+            )
+        }
     };
     let mut good = Vec::new();
     let mut bad = Vec::new();
@@ -74,7 +81,7 @@ pub fn collect(
         return Ok(c);
     }
     collect_preps(&ledger, store, sweep_id, version, run_dir, &mut c)?;
-    for f in result_files(run_dir) {
+    for f in result_files(run_dir, &mut c.problems) {
         collect_file(&ledger, store, &f, &mut c)?;
     }
     c.planned = ledger.plan_rounds(store)?;
@@ -122,17 +129,30 @@ fn collect_preps(
     Ok(())
 }
 
-/// Every record file of every submission under the run directory, in order.
-fn result_files(run_dir: &Path) -> Vec<PathBuf> {
+/// Every record file of every submission under the run directory, in order; an entry that is
+/// not a plain file (a directory named like one) is reported and skipped.
+fn result_files(run_dir: &Path, problems: &mut Vec<String>) -> Vec<PathBuf> {
     let mut files = Vec::new();
     if let Ok(subs) = std::fs::read_dir(run_dir) {
         for sub in subs.flatten() {
             if let Ok(rs) = std::fs::read_dir(sub.path().join("results")) {
-                files.extend(rs.flatten().map(|f| f.path()));
+                for f in rs.flatten() {
+                    let path = f.path();
+                    match std::fs::metadata(&path) {
+                        Ok(m) if m.is_file() => files.push(path),
+                        Ok(_) => problems.push(format!(
+                            "{}: not a results file (a directory or device), skipped",
+                            path.display()
+                        )),
+                        Err(e) => problems
+                            .push(format!("{}: cannot be read, skipped: {e}", path.display())),
+                    }
+                }
             }
         }
     }
     files.sort();
+    problems.sort();
     files
 }
 

@@ -1,8 +1,9 @@
 //! Slurm's own commands and syntax: the cluster's MaxArraySize, the sbatch scripts (every value
-//! checked to stay on its line), `sbatch` itself and the queue's states (`squeue`).
+//! checked to stay on its line) and `sbatch` itself; the queue is [`super::Queue`].
 
 use std::path::Path;
 
+use super::queue::{run_with_timeout, QueueError, SQUEUE_TIMEOUT};
 use super::SubmitOptions;
 use crate::error::SlurmError;
 
@@ -106,52 +107,27 @@ pub fn script(
     s
 }
 
+/// Submit one array; its Slurm job id. A refusal, a failure to run and a controller that does
+/// not answer within [`SQUEUE_TIMEOUT`] are all [`SlurmError::Sbatch`]: nothing was queued.
 pub(super) fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, SlurmError> {
     let mut cmd = std::process::Command::new("sbatch");
     cmd.arg("--parsable");
     if let Some(d) = dependency {
         cmd.arg(format!("--dependency=afterany:{d}"));
     }
-    let out = cmd
-        .arg(script)
-        .output()
-        .map_err(|e| format!("cannot run sbatch: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "sbatch {} failed: {}",
-            script.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        )
-        .into());
-    }
-    let id = String::from_utf8_lossy(&out.stdout)
-        .trim()
-        .split(';')
-        .next()
-        .unwrap_or("")
-        .to_string();
-    if id.is_empty() {
-        return Err("sbatch printed no job id".into());
+    let failed = |message: String| SlurmError::Sbatch {
+        script: script.display().to_string(),
+        message,
+    };
+    let out = run_with_timeout(cmd.arg(script), SQUEUE_TIMEOUT).map_err(|e| {
+        failed(match e {
+            QueueError::Failed { stderr, .. } => stderr,
+            other => other.to_string().replacen("squeue", "sbatch", 1),
+        })
+    })?;
+    let id = out.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
+        return Err(failed(format!("it printed no job id ({:?})", out.trim())));
     }
     Ok(id)
-}
-
-/// Counts of the sweep's array tasks by Slurm state (squeue), where Slurm answers.
-pub fn queue_states(job_ids: &[String]) -> Option<Vec<(String, usize)>> {
-    if job_ids.is_empty() {
-        return Some(Vec::new());
-    }
-    let out = std::process::Command::new("squeue")
-        .args(["-h", "-r", "-o", "%T", "-j", &job_ids.join(",")])
-        .output()
-        .ok()?;
-    let mut counts: Vec<(String, usize)> = Vec::new();
-    for line in String::from_utf8_lossy(&out.stdout).lines() {
-        let s = line.trim().to_string();
-        match counts.iter_mut().find(|(k, _)| *k == s) {
-            Some((_, n)) => *n += 1,
-            None => counts.push((s, 1)),
-        }
-    }
-    Some(counts)
 }

@@ -9,8 +9,14 @@
 //! RUN_DIR/preps/<prep id>.json            prepped cells (written atomically: tmp + rename)
 //! RUN_DIR/sub-<n>/tasks/<kind>/<task>.jsonl    requests of one array task
 //! RUN_DIR/sub-<n>/results/<kind>-<task>.jsonl  one response per line, appended and flushed
+//! RUN_DIR/sub-<n>/exits/<kind>-<task>.txt      why a task stopped before its last record
 //! RUN_DIR/sub-<n>/{prep,collide}.sbatch, logs/
 //! ```
+//!
+//! Each round of `submit` takes stock first ([`take_stock`]): it asks the queue ([`Queue`]; no
+//! answer is never read as an empty queue), finds again arrays a kill left half-recorded,
+//! collects the run directories, and gives the jobs of arrays that left the queue without a
+//! result a failed attempt with the reason ([`settle_ended_arrays`]).
 
 use std::path::{Path, PathBuf};
 
@@ -24,11 +30,15 @@ use crate::wire::{PrepPayload, Request};
 mod array_task;
 mod collect;
 mod commands;
+mod ended;
+mod queue;
 
 pub use array_task::serve_array_task;
 pub use collect::{collect, read_responses, Collected};
 use commands::sbatch;
-pub use commands::{max_array_size, queue_states, script, shell_quote};
+pub use commands::{max_array_size, script, shell_quote};
+pub use ended::{settle_ended_arrays, Ended, EndedKind};
+pub use queue::{job_name, queue_of, Queue, QueueError, QueuedTask};
 
 /// How to submit.
 #[derive(Debug, Clone)]
@@ -164,15 +174,20 @@ fn requests(
 ) -> Result<(Vec<Request>, Vec<Request>), SlurmError> {
     let preps = store.preps_of(sweep_id, version)?;
     let jobs = store.pending_jobs(sweep_id, version)?;
+    let needed: std::collections::HashSet<i64> = jobs.iter().map(|j| j.prep_id).collect();
     // Preps decided earlier: a verdict that is not ok settled its jobs (the ledger, above);
-    // ok preps are written out for the collision tasks.
+    // ok preps are written out for the collision tasks, and written again where the file a
+    // job of this submission needs is damaged (a task could not read it: its jobs failed an
+    // attempt, and would fail every one after it).
     let mut prep_reqs = Vec::new();
     let mut blocked = std::collections::HashSet::new();
     for p in &preps {
         match (p.state, p.verdict.as_deref()) {
             (JobState::Done, Some("ok")) => {
                 let path = preps_dir.join(format!("{}.json", p.id));
-                if !path.exists() && !dry_run {
+                let sound = path.exists()
+                    && (!needed.contains(&p.id) || array_task::read_prep(&path).is_ok());
+                if !sound && !dry_run {
                     std::fs::create_dir_all(preps_dir).map_err(|x| io(x, preps_dir))?;
                     let payload = payload_from_store(store, p.id, p.seed)?;
                     write_atomic(&path, serde_json::to_string(&payload)?.as_bytes())?;
@@ -210,7 +225,10 @@ fn write_submission(
     Ok(())
 }
 
-/// Submit the arrays of `sub` (the collisions after the preps) and record them in the store.
+/// Submit the arrays of `sub` (the collisions after the preps), each recorded in the store
+/// before sbatch runs and completed with its id after, so that a kill in between leaves a row
+/// [`take_stock`] resolves, never an array the store does not know of. An array sbatch refuses
+/// leaves no row, and a submission none of whose arrays was queued leaves no directory.
 fn send(
     store: &mut Store,
     sweep_id: i64,
@@ -222,26 +240,123 @@ fn send(
     for (kind, text) in sub.scripts.clone() {
         let path = sub.sub_dir.join(format!("{kind}.sbatch"));
         write_atomic(&path, text.as_bytes())?;
-        let id = sbatch(&path, previous.as_deref())?;
         let (tasks, count) = if kind == "prep" {
             (sub.prep_tasks, sub.preps)
         } else {
             (sub.collide_tasks, sub.jobs)
         };
-        store.record_array(
+        let row = store.begin_array(
             sweep_id,
             version,
             &SlurmArray {
+                id: 0,
                 kind: kind.clone(),
-                slurm_job_id: id.clone(),
+                slurm_job_id: None,
                 run_dir: opts.run_dir.display().to_string(),
+                sub_dir: Some(sub.sub_dir.display().to_string()),
                 tasks: tasks as i64,
                 jobs: count as i64,
                 submitted_at: cellsweep_store::now(),
+                ended_at: None,
             },
         )?;
+        let id = match sbatch(&path, previous.as_deref()) {
+            Ok(id) => id,
+            Err(e) => {
+                store.forget_array(row)?;
+                if sub.slurm_ids.is_empty() {
+                    let _ = std::fs::remove_dir_all(&sub.sub_dir);
+                }
+                return Err(e);
+            }
+        };
+        store.array_submitted(row, &id)?;
         sub.slurm_ids.push((kind, id.clone()));
         previous = Some(id);
     }
     Ok(())
+}
+
+/// What [`take_stock`] found and did.
+#[derive(Debug, Clone)]
+pub struct Stock {
+    /// The queue's answer, or why there is none (then nothing was examined for failures, and
+    /// nothing may be sent: jobs that look lost may still be queued).
+    pub queue: Result<Queue, QueueError>,
+    /// Arrays a kill left recorded without their id, found again in the queue by script.
+    pub found_again: usize,
+    /// Such arrays not in the queue: sbatch never took them, or they have ended.
+    pub never_queued: usize,
+    /// What each run directory gave, by directory.
+    pub collected: Vec<(String, Collected)>,
+    /// What the arrays that left the queue left undone.
+    pub ended: Ended,
+    /// Tasks of the sweep's arrays still queued or running.
+    pub active: usize,
+}
+
+/// Take stock of a sweep's Slurm run: ask the queue (first, so that a task that ends while the
+/// run directory is read is still counted as queued, and collected next time instead of sent
+/// again), resolve arrays a kill left half-recorded, collect every run directory through the
+/// ledger, and give each job an array left without a result a failed attempt with its reason.
+pub fn take_stock(
+    store: &mut Store,
+    sweep_id: i64,
+    name: &str,
+    version: &str,
+) -> Result<Stock, SlurmError> {
+    let arrays = store.open_arrays_of(sweep_id, version)?;
+    let queue = match arrays.is_empty() {
+        true => Ok(Queue::default()),
+        false => Queue::ask(name),
+    };
+    let mut stock = Stock {
+        queue: Ok(Queue::default()),
+        found_again: 0,
+        never_queued: 0,
+        collected: Vec::new(),
+        ended: Ended::default(),
+        active: 0,
+    };
+    if let Ok(q) = &queue {
+        for a in arrays.iter().filter(|a| a.slurm_job_id.is_none()) {
+            let script = a
+                .sub_dir
+                .as_ref()
+                .map(|d| Path::new(d).join(format!("{}.sbatch", a.kind)));
+            match script.and_then(|s| q.array_of_script(&s)) {
+                Some(id) => {
+                    store.array_submitted(a.id, &id)?;
+                    stock.found_again += 1;
+                }
+                None => {
+                    store.array_ended(a.id, cellsweep_store::now())?;
+                    stock.never_queued += 1;
+                }
+            }
+        }
+    }
+    let mut dirs: Vec<String> = store
+        .arrays_of(sweep_id, version)?
+        .into_iter()
+        .map(|a| a.run_dir)
+        .collect();
+    dirs.sort();
+    dirs.dedup();
+    for d in dirs {
+        let c = collect(store, sweep_id, version, Path::new(&d))?;
+        stock.collected.push((d, c));
+    }
+    if let Ok(q) = &queue {
+        let ledger = Ledger::load(store, sweep_id, version)?;
+        stock.ended = settle_ended_arrays(&ledger, store, q)?;
+        let open = store.open_arrays_of(sweep_id, version)?;
+        let ids: Vec<&str> = open
+            .iter()
+            .filter_map(|a| a.slurm_job_id.as_deref())
+            .collect();
+        stock.active = q.states_of(&ids).iter().map(|(_, n)| n).sum();
+    }
+    stock.queue = queue;
+    Ok(stock)
 }

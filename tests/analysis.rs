@@ -260,3 +260,58 @@ fn plot_writes_svg_and_png_for_each_diagram() {
         assert!((num("α̃/L̃ = ") - x).abs() < 0.01, "{tip}");
     }
 }
+
+#[test]
+fn converge_names_what_a_variant_changes_and_reads_each_column_of_both() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let base = root.join("data/paper/refined-L70-sigma5.csv");
+    let wide = root.join("data/checks/check-breakup-wide.csv");
+    let out = cellsweep(&[
+        "converge",
+        "--baseline",
+        base.to_str().unwrap(),
+        "--variant",
+        wide.to_str().unwrap(),
+        "--variant",
+        base.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let variants = v["variants"].as_array().unwrap();
+    // The wide-box check changes the pair lattice only, and holds two of the baseline's columns.
+    assert_eq!(
+        variants[0]["changes"],
+        "pair_lattice [400,200] -> [600,200]"
+    );
+    assert_eq!(variants[0]["columns"].as_array().unwrap().len(), 2);
+    // The baseline against itself: every column with a crossing agrees, difference 0.
+    let same = variants[1]["columns"].as_array().unwrap();
+    assert_eq!(same.len(), 6);
+    let crossed: Vec<&serde_json::Value> = same
+        .iter()
+        .filter(|c| c["difference"].is_number())
+        .collect();
+    assert_eq!(crossed.len(), 3);
+    for c in crossed {
+        assert_eq!(c["verdict"], "agrees");
+        assert_eq!(c["difference"].as_f64(), Some(0.0));
+        assert_eq!(c["baseline"], c["variant"]);
+    }
+    // A file that is not an export: one line naming it, non-zero.
+    let bad = cellsweep(&[
+        "converge",
+        "--baseline",
+        "/nonexistent.csv",
+        "--variant",
+        base.to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("/nonexistent.csv"), "{err}");
+}

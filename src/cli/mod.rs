@@ -44,6 +44,10 @@ pub enum Command {
     /// two solver versions): counts, pairs that end alike, shifts in decision time, labels, and
     /// a test of whether the outcome statistics differ.
     Compare(CompareArgs),
+    /// Is it converged? Each column's beta* in variants of the numerics (dt halved, a wider or
+    /// taller box, f64, a finer lattice) against a baseline: both with their 95% intervals, the
+    /// difference with its interval, and a verdict (agrees / moves).
+    Converge(ConvergeArgs),
     /// Write one CSV row per finished replicate of a sweep (seeds, parameters, outcome, times,
     /// attachments, free speed, prep hash, solver version): how results move and are shared.
     Export(ExportArgs),

@@ -140,6 +140,20 @@ pub struct CompareArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// The baseline's export (e.g. data/paper/refined-L90-sigma5.csv).
+    #[arg(long, value_name = "EXPORT")]
+    pub baseline: std::path::PathBuf,
+    /// The export of a variant of the numerics (repeat for several): a sweep run with dt
+    /// halved, another pair lattice, f64 collisions or a finer lattice, over columns the
+    /// baseline holds.
+    #[arg(long = "variant", value_name = "EXPORT", required = true)]
+    pub variants: Vec<std::path::PathBuf>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+}
+
+#[derive(Debug, Args)]
 pub struct PlotArgs {
     #[command(flatten)]
     pub source: CountsSource,

@@ -2,6 +2,7 @@
 
 mod bench;
 mod compare;
+mod converge;
 mod dry_run;
 mod export;
 mod fit;
@@ -29,6 +30,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Table(args) => table::run(args).map(|_| 0),
         Command::Fit(args) => fit::run(args),
         Command::Compare(args) => compare::run(args).map(|_| 0),
+        Command::Converge(args) => converge::run(args).map(|_| 0),
         Command::Export(args) => export::run(args).map(|_| 0),
         Command::Import(args) => export::import(args).map(|_| 0),
         Command::Reset(args) => reset::run(args).map(|_| 0),

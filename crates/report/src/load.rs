@@ -50,8 +50,14 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> Result<Results, LoadError> 
 /// Counts of every point of an export file (`cellsweep export`), and, for an adaptive sweep,
 /// each point's standing under its rule, exactly as the store would give them.
 pub fn from_export(path: &Path) -> Result<Results, LoadError> {
+    Ok(from_export_with_sweep(path)?.1)
+}
+
+/// An export file's sweep definition (its header) and its results, reading the file once.
+pub fn from_export_with_sweep(path: &Path) -> Result<(Sweep, Results), LoadError> {
     let (sweep, rows) = read_export(path)?;
-    from_rows(&path.display().to_string(), &sweep, &rows)
+    let results = from_rows(&path.display().to_string(), &sweep, &rows)?;
+    Ok((sweep, results))
 }
 
 /// Counts, standings, each prep's free speed and provenance of a sweep's finished rows (from

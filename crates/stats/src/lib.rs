@@ -17,7 +17,9 @@
 //!   own with the test of one for all ([`column_shifts`] gives [`ColumnShifts`]);
 //! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
 //!   [`ColumnNeed`]);
-//! - two result sets compared point by point ([`compare()`] gives a [`Comparison`]);
+//! - two result sets compared point by point ([`compare()`] gives a [`Comparison`]), and
+//!   column by column, a variant of the numerics against a baseline ([`compare_columns`] gives
+//!   each column's [`ColumnChange`] with its [`Verdict`]: the convergence check);
 //! - a run's throughput and ETA ([`throughput`]).
 //!
 //! The path: `cellsweep_store` reads replicates and counts out of a store, `cellsweep_report`
@@ -30,6 +32,7 @@ pub mod binomial;
 pub mod column_model;
 pub mod column_shift;
 pub mod compare;
+pub mod convergence;
 pub mod counts;
 pub mod distributions;
 pub mod end;
@@ -47,6 +50,7 @@ pub use binomial::clopper_pearson;
 pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, Tally};
 pub use column_shift::{column_shifts, ColumnShift, ColumnShifts};
 pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
+pub use convergence::{compare_columns, ColumnChange, Side, Verdict};
 pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, Replicate};
 pub use fit::{fit_columns, fit_line, Column, Fit, Method, NoFit, Scales};

@@ -44,6 +44,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{SweepError, ValueError};
 use crate::sweep_file::{self, AdaptiveFile, ProtocolFile, RunFile, Whole};
 
+mod differences;
 mod layout;
 mod others;
 mod points;

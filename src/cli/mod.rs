@@ -48,6 +48,13 @@ pub enum Command {
     /// taller box, f64, a finer lattice) against a baseline: both with their 95% intervals, the
     /// difference with its interval, and a verdict (agrees / moves).
     Converge(ConvergeArgs),
+    /// Compute one stored replicate again from its record (parameters, lattices, seeds,
+    /// precision, classifier) and check it comes out identical (outcome, times, steps,
+    /// attachments, speeds, prep hash); with --frames its movie, with --track its observables.
+    Replay(ReplayArgs),
+    /// Audit a store or an export: replay a seeded sample of its rows (or all) and report each
+    /// as identical or with the fields that differ.
+    Verify(VerifyArgs),
     /// Write one CSV row per finished replicate of a sweep (seeds, parameters, outcome, times,
     /// attachments, free speed, prep hash, solver version): how results move and are shared.
     Export(ExportArgs),

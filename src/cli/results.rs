@@ -139,6 +139,112 @@ pub struct CompareArgs {
     pub format: Format,
 }
 
+/// Where stored rows come from: a store, or an export file.
+#[derive(Debug, Args)]
+pub struct RowsSource {
+    /// SQLite database of results.
+    #[arg(long, default_value = "cellsweep.sqlite", value_name = "PATH")]
+    pub db: std::path::PathBuf,
+    /// The sweep to read (needed when the store holds several).
+    #[arg(long)]
+    pub sweep: Option<String>,
+    /// Read the rows of a `cellsweep export` file instead of a store (for `verify`, also a
+    /// folder of exports: every `*.csv` in it).
+    #[arg(long, value_name = "EXPORT.csv", conflicts_with_all = ["db", "sweep"])]
+    pub data: Option<std::path::PathBuf>,
+}
+
+impl RowsSource {
+    /// The sweep's definition and its finished rows.
+    pub fn rows(
+        &self,
+    ) -> Result<
+        (
+            cellsweep_scheduler::Sweep,
+            Vec<cellsweep_store::export::ExportRow>,
+        ),
+        cellsweep_report::load::LoadError,
+    > {
+        use cellsweep_report::load;
+        match &self.data {
+            Some(path) => Ok(cellsweep_scheduler::export_file::read_export(path)?),
+            None => load::rows_of_store(&self.db, self.sweep.as_deref()),
+        }
+    }
+
+    /// Every sweep's rows: a folder given as `--data` is every export (`*.csv`) in it.
+    pub fn all_rows(
+        &self,
+    ) -> anyhow::Result<
+        Vec<(
+            cellsweep_scheduler::Sweep,
+            Vec<cellsweep_store::export::ExportRow>,
+        )>,
+    > {
+        let Some(dir) = self.data.as_ref().filter(|d| d.is_dir()) else {
+            return Ok(vec![self.rows()?]);
+        };
+        let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            anyhow::bail!("{}: no export (*.csv) in it", dir.display());
+        }
+        files
+            .iter()
+            .map(|f| Ok(cellsweep_scheduler::export_file::read_export(f)?))
+            .collect()
+    }
+
+    pub fn name(&self) -> String {
+        self.data.as_ref().unwrap_or(&self.db).display().to_string()
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    #[command(flatten)]
+    pub source: RowsSource,
+    /// The point, as NAME=VALUE pairs over any of its axes (alpha=0.1,beta=46 or
+    /// alpha=0.125,beta=22,R0=32); axes left out must not be needed to tell points apart.
+    #[arg(long, value_name = "NAME=VALUE,...")]
+    pub point: String,
+    /// The replicate's index at that point.
+    #[arg(long)]
+    pub replicate: u32,
+    /// Write PNG snapshots of the replayed collision and an animated GIF into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<std::path::PathBuf>,
+    /// Time between snapshots, tau0.
+    #[arg(long, default_value_t = 10.0)]
+    pub frame_every: f64,
+    /// Write the replayed collision's observables (one JSON object per sample) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub track: Option<std::path::PathBuf>,
+    /// Split every step over two threads (the same result, bit for bit).
+    #[arg(long)]
+    pub parallel: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    #[command(flatten)]
+    pub source: RowsSource,
+    /// How many rows to replay, chosen by --seed.
+    #[arg(long, default_value_t = 20, conflicts_with = "all")]
+    pub sample: usize,
+    /// Seed of the choice of rows.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Replay every row.
+    #[arg(long)]
+    pub all: bool,
+}
+
 #[derive(Debug, Args)]
 pub struct ConvergeArgs {
     /// The baseline's export (e.g. data/paper/refined-L90-sigma5.csv).

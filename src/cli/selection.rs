@@ -30,7 +30,7 @@ pub struct Condition {
     pub value: f64,
 }
 
-fn parse_condition(s: &str) -> Result<Condition, String> {
+pub(crate) fn parse_condition(s: &str) -> Result<Condition, String> {
     let Some((name, value)) = s.split_once('=') else {
         return Err(format!("{s:?} is not NAME=VALUE (e.g. R0=32)"));
     };

@@ -10,6 +10,7 @@ mod model;
 mod plot;
 mod refine_lines;
 mod relax;
+mod replay;
 mod report;
 mod reset;
 mod run;
@@ -31,6 +32,8 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Fit(args) => fit::run(args),
         Command::Compare(args) => compare::run(args).map(|_| 0),
         Command::Converge(args) => converge::run(args).map(|_| 0),
+        Command::Replay(args) => replay::run(args),
+        Command::Verify(args) => replay::verify(args),
         Command::Export(args) => export::run(args).map(|_| 0),
         Command::Import(args) => export::import(args).map(|_| 0),
         Command::Reset(args) => reset::run(args).map(|_| 0),

@@ -17,7 +17,10 @@ use crate::progress::StageBars;
 /// Run `f` on a worker of a two-thread pool when `parallel`, so that each step's `rayon::join`
 /// keeps one half on the calling worker and hands the other to a worker that is already awake
 /// (called from outside a pool, both halves would be sent to the pool and the caller would sleep).
-fn on_workers<T: Send>(parallel: bool, f: impl FnOnce() -> T + Send) -> anyhow::Result<T> {
+pub(super) fn on_workers<T: Send>(
+    parallel: bool,
+    f: impl FnOnce() -> T + Send,
+) -> anyhow::Result<T> {
     if !parallel {
         return Ok(f());
     }
@@ -112,7 +115,7 @@ fn trajectory(
 }
 
 /// The collision's observables, one JSON object per sample.
-fn write_track(path: &Path, c: &Collision) -> anyhow::Result<()> {
+pub(super) fn write_track(path: &Path, c: &Collision) -> anyhow::Result<()> {
     let mut f = std::io::BufWriter::new(
         std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?,
     );

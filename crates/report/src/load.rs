@@ -31,6 +31,13 @@ macro_rules! invalid {
 
 /// The results of sweep `sweep` (or the store's only one) in the store at `db`, read only.
 pub fn from_store(db: &Path, sweep: Option<&str>) -> Result<Results, LoadError> {
+    let (sweep, rows) = rows_of_store(db, sweep)?;
+    from_rows(&db.display().to_string(), &sweep, &rows)
+}
+
+/// The definition and finished rows of sweep `sweep` (or the store's only one) in the store at
+/// `db`, read only, exactly as an export of them would hold them.
+pub fn rows_of_store(db: &Path, sweep: Option<&str>) -> Result<(Sweep, Vec<ExportRow>), LoadError> {
     let store = Store::open_read(db)?;
     let name = store.choose_sweep(sweep)?;
     let id = store.sweep_id(&name)?;
@@ -44,7 +51,7 @@ pub fn from_store(db: &Path, sweep: Option<&str>) -> Result<Results, LoadError> 
         .map_err(|e| LoadError::Invalid(format!("the default parameters: {e}")))?;
     // The store's finished replicates read exactly as an export of them would be.
     let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
-    from_rows(&db.display().to_string(), &sweep, &rows)
+    Ok((sweep, rows))
 }
 
 /// Counts of every point of an export file (`cellsweep export`), and, for an adaptive sweep,

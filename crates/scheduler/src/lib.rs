@@ -17,6 +17,7 @@ pub mod lock;
 pub mod plan;
 pub mod pool;
 pub mod refinement;
+pub mod replay;
 pub mod reserve;
 pub mod run_dir;
 pub mod slurm;

@@ -33,6 +33,7 @@ mod settle;
 pub use failure::{Failure, TaskRef};
 pub use import::RowCheck;
 pub use rounds::ColumnStanding;
+pub(crate) use settle::result_record;
 pub use settle::PrepSettled;
 
 /// What became of a record.

@@ -46,8 +46,8 @@ fn verdict_record(
     }
 }
 
-/// The stored form of a collision's result.
-fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
+/// The stored form of a collision's result (what `replay` compares a stored row with).
+pub(crate) fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
     let name = |a| {
         serde_json::to_value(a)
             .ok()

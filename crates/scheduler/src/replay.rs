@@ -1,0 +1,187 @@
+//! A stored result computed again from what its record holds, and the two compared field by
+//! field: how a user looks at one replicate (its movie, its observables) and how a store or an
+//! export is audited (`cellsweep replay`, `cellsweep verify`).
+//!
+//! A row's trajectory is fixed by its sweep's definition (the point's parameters, the protocol
+//! and lattices for that point, the precision), the row's classifier settings and its two
+//! seeds. Replaying runs the prep and the collision again from those and turns the result into
+//! the stored form by the very function the ledger stores results with, so that equal means
+//! what the store would hold. A row of another solver version is not compared: the answer says
+//! so instead.
+
+use cellsweep_solver::{
+    run_trajectory, ClassifierSettings, Collision, Config, Monitor, Prep, Seeds, TrajectoryResult,
+    SOLVER_VERSION,
+};
+use cellsweep_store::export::ExportRow;
+use cellsweep_store::ResultRecord;
+use thiserror::Error;
+
+use crate::ledger::result_record;
+use crate::Sweep;
+
+/// Why a row cannot be replayed.
+#[derive(Debug, Error)]
+pub enum ReplayError {
+    /// The row was recorded by another solver: this build would compute something else.
+    #[error(
+        "recorded by solver {recorded}, this is {this}: not compared (replay it with that version)"
+    )]
+    OtherVersion { recorded: String, this: String },
+    /// The row does not fit its sweep's definition.
+    #[error("{0}")]
+    Row(String),
+    #[error(transparent)]
+    Solver(#[from] cellsweep_solver::SolverError),
+}
+
+/// One field whose replayed value differs from the stored one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Difference {
+    pub field: &'static str,
+    pub stored: String,
+    pub replayed: String,
+}
+
+/// A row replayed.
+#[derive(Debug)]
+pub struct Replayed {
+    pub config: Config,
+    pub result: TrajectoryResult,
+    pub prep: Prep,
+    pub collision: Option<Collision>,
+    /// Every field that differs; empty when the replay is identical.
+    pub differences: Vec<Difference>,
+}
+
+/// The configuration row `row` of `sweep` was computed with.
+pub fn config_of_row(sweep: &Sweep, row: &ExportRow) -> Result<Config, ReplayError> {
+    let axes = sweep.axes_of_row(row).map_err(ReplayError::Row)?;
+    let params = sweep.point(&axes);
+    let protocol = sweep.protocol_for(&params);
+    if protocol.precision.as_str() != row.precision {
+        return Err(ReplayError::Row(format!(
+            "the row says precision {}, its sweep {}",
+            row.precision,
+            protocol.precision.as_str()
+        )));
+    }
+    let classifier: ClassifierSettings = serde_json::from_str(&row.classifier)
+        .map_err(|e| ReplayError::Row(format!("its classifier settings: {e}")))?;
+    Ok(Config {
+        params,
+        protocol,
+        classifier,
+    })
+}
+
+/// Replay `row` of `sweep` (progress and frames to `monitor`) and compare it with the row.
+pub fn replay(
+    sweep: &Sweep,
+    row: &ExportRow,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+) -> Result<Replayed, ReplayError> {
+    if row.solver_version != SOLVER_VERSION {
+        return Err(ReplayError::OtherVersion {
+            recorded: row.solver_version.clone(),
+            this: SOLVER_VERSION.to_string(),
+        });
+    }
+    let config = config_of_row(sweep, row)?;
+    let seeds = Seeds {
+        prep: row.prep_seed,
+        collision: row.collision_seed,
+    };
+    let (result, prep, collision) = run_trajectory(&config, seeds, monitor, parallel)?;
+    let differences = differences(row, &result_record(&result, 0.0), &prep_hash(&prep));
+    Ok(Replayed {
+        config,
+        result,
+        prep,
+        collision,
+        differences,
+    })
+}
+
+/// The prep's hash as the store and exports give it (FNV-1a of phi then P, little-endian f64).
+pub fn prep_hash(prep: &Prep) -> String {
+    use cellsweep_store::f64s_to_bytes;
+    let bytes = [f64s_to_bytes(&prep.phi), f64s_to_bytes(&prep.p)].concat();
+    format!("{:016x}", cellsweep_store::digest::fnv1a(&bytes))
+}
+
+/// The fields of `row` that `replayed` (the stored form of the replayed result) does not give
+/// exactly. A prep that is not `ok` gives no collision: its row's outcome and times are empty.
+pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<Difference> {
+    let opt = |v: Option<f64>| v.map_or("none".to_string(), |x| format!("{x:?}"));
+    let text = |v: Option<&str>| v.unwrap_or("none").to_string();
+    let [a1, a2] = replayed
+        .attachment
+        .clone()
+        .map_or([None, None], |[a, b]| [Some(a), Some(b)]);
+    let fields: [(&'static str, String, String); 12] = [
+        ("verdict", row.verdict.clone(), replayed.verdict.clone()),
+        (
+            "outcome",
+            text(row.outcome.as_deref()),
+            text(replayed.outcome.as_deref()),
+        ),
+        (
+            "contact_time",
+            opt(row.contact_time),
+            opt(replayed.contact_time),
+        ),
+        (
+            "decision_time",
+            opt(row.decision_time),
+            opt(replayed.decision_time),
+        ),
+        (
+            "collision_steps",
+            row.collision_steps.to_string(),
+            replayed.collision_steps.to_string(),
+        ),
+        (
+            "attachment_1",
+            text(row.attachment_1.as_deref()),
+            text(a1.as_deref()),
+        ),
+        (
+            "attachment_2",
+            text(row.attachment_2.as_deref()),
+            text(a2.as_deref()),
+        ),
+        ("free_speed", opt(row.free_speed), opt(replayed.free_speed)),
+        (
+            "threshold_speed",
+            opt(row.threshold_speed),
+            opt(replayed.threshold_speed),
+        ),
+        (
+            "breakup_reason",
+            text(row.breakup_reason.as_deref()),
+            text(replayed.breakup_reason.as_deref()),
+        ),
+        ("prep_hash", row.prep_hash.clone(), hash.to_string()),
+        (
+            "classifier",
+            canonical(&row.classifier),
+            canonical(&replayed.classifier),
+        ),
+    ];
+    fields
+        .into_iter()
+        .filter(|(_, a, b)| a != b)
+        .map(|(field, stored, replayed)| Difference {
+            field,
+            stored,
+            replayed,
+        })
+        .collect()
+}
+
+/// JSON text in one form (keys in order), so that spacing or key order is no difference.
+fn canonical(json: &str) -> String {
+    serde_json::from_str::<serde_json::Value>(json).map_or(json.to_string(), |v| v.to_string())
+}

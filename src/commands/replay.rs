@@ -1,0 +1,286 @@
+//! `cellsweep replay` (one stored replicate computed again, with its movie) and
+//! `cellsweep verify` (a seeded sample of a store's or an export's rows replayed).
+
+use anyhow::{bail, Context};
+use cellsweep_scheduler::replay::{replay, ReplayError, Replayed};
+use cellsweep_scheduler::Sweep;
+use cellsweep_solver::Silent;
+use cellsweep_store::export::ExportRow;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+
+use super::simulate::{on_workers, write_track};
+use crate::cli::{parse_condition, Condition, ReplayArgs, VerifyArgs};
+use crate::frames::FrameRecorder;
+use crate::progress::StageBars;
+
+/// The value of axis `name` at row `row` of `sweep`, if the sweep has that axis.
+fn axis_value(sweep: &Sweep, row: &ExportRow, name: &str) -> anyhow::Result<Option<f64>> {
+    let axes = sweep.axes_of_row(row).map_err(anyhow::Error::msg)?;
+    Ok(match name {
+        "alpha" => Some(axes.alpha),
+        "beta" => Some(axes.beta),
+        "L" => Some(axes.L as f64),
+        "sigma" => Some(axes.sigma),
+        other => axes.others.get(other),
+    })
+}
+
+/// The conditions of `--point NAME=VALUE,...`, each naming an axis of the sweep.
+fn point_conditions(sweep: &Sweep, text: &str) -> anyhow::Result<Vec<Condition>> {
+    let mut conds = Vec::new();
+    for term in text.split(',').filter(|t| !t.trim().is_empty()) {
+        let c = parse_condition(term).map_err(|e| anyhow::anyhow!("--point {text}: {e}"))?;
+        let known = ["alpha", "beta", "L", "sigma"].contains(&c.name.as_str())
+            || sweep.grid.others.iter().any(|a| a.name == c.name);
+        if !known {
+            let others: Vec<&str> = sweep.grid.others.iter().map(|a| a.name.as_str()).collect();
+            bail!(
+                "--point {text}: {:?} is not an axis of sweep {:?} (its axes: alpha, beta, L, sigma{}{})",
+                c.name,
+                sweep.name,
+                if others.is_empty() { "" } else { ", " },
+                others.join(", ")
+            );
+        }
+        conds.push(c);
+    }
+    if conds.is_empty() {
+        bail!("--point {text:?} names no axis (write e.g. alpha=0.1,beta=46)");
+    }
+    Ok(conds)
+}
+
+/// The row of replicate `replicate` at the one point `--point` names.
+fn find_row<'a>(
+    sweep: &Sweep,
+    rows: &'a [ExportRow],
+    point: &str,
+    replicate: u32,
+) -> anyhow::Result<&'a ExportRow> {
+    let conds = point_conditions(sweep, point)?;
+    let mut at = Vec::new();
+    for r in rows {
+        let mut all = true;
+        for c in &conds {
+            let v = axis_value(sweep, r, &c.name)?;
+            all &= v.is_some_and(|v| (v - c.value).abs() <= 1e-9 * c.value.abs().max(1.0));
+        }
+        if all {
+            at.push(r);
+        }
+    }
+    if at.is_empty() {
+        bail!(
+            "--point {point}: no finished replicate of sweep {:?} is at that point",
+            sweep.name
+        );
+    }
+    let key = |r: &ExportRow| {
+        sweep
+            .axes_of_row(r)
+            .map(|a| a.to_string())
+            .unwrap_or_default()
+    };
+    let mut points: Vec<String> = at.iter().map(|r| key(r)).collect();
+    points.sort();
+    points.dedup();
+    if points.len() > 1 {
+        bail!(
+            "--point {point} matches {} points ({}): name more axes",
+            points.len(),
+            points
+                .iter()
+                .take(4)
+                .cloned()
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+    at.into_iter()
+        .find(|r| r.replicate == replicate)
+        .with_context(|| {
+            format!(
+                "--point {point}: replicate {replicate} has no result ({} replicates finished there)",
+                rows_at(rows, sweep, &points[0])
+            )
+        })
+}
+
+fn rows_at(rows: &[ExportRow], sweep: &Sweep, point: &str) -> usize {
+    rows.iter()
+        .filter(|r| {
+            sweep
+                .axes_of_row(r)
+                .map(|a| a.to_string())
+                .unwrap_or_default()
+                == point
+        })
+        .count()
+}
+
+/// One line naming a row.
+fn row_name(sweep: &Sweep, r: &ExportRow) -> String {
+    let at = sweep
+        .axes_of_row(r)
+        .map(|a| a.to_string())
+        .unwrap_or_else(|_| format!("alpha = {}, beta = {}", r.alpha, r.beta));
+    format!("{at}, replicate {}", r.replicate)
+}
+
+/// What a replay says, in lines: `identical`, or each field with both values.
+fn verdict_lines(r: &Replayed) -> Vec<String> {
+    if r.differences.is_empty() {
+        return vec!["identical".to_string()];
+    }
+    r.differences
+        .iter()
+        .map(|d| {
+            format!(
+                "differs: {}: stored {}, replayed {}",
+                d.field, d.stored, d.replayed
+            )
+        })
+        .collect()
+}
+
+pub fn run(args: ReplayArgs) -> anyhow::Result<i32> {
+    let (sweep, rows) = args.source.rows()?;
+    let row = find_row(&sweep, &rows, &args.point, args.replicate)?;
+    println!(
+        "replaying {} of {:?} ({}): prep seed {}, collision seed {}, {} collision",
+        row_name(&sweep, row),
+        sweep.name,
+        args.source.name(),
+        row.prep_seed,
+        row.collision_seed,
+        row.precision
+    );
+    let replayed = match &args.frames {
+        Some(dir) => {
+            let mut rec = FrameRecorder::new(dir, args.frame_every)?;
+            let out = on_workers(args.parallel, || {
+                replay(&sweep, row, &mut rec, args.parallel)
+            })?;
+            rec.finish()?;
+            println!(
+                "wrote the movie (PNG snapshots and an animated GIF) into {}",
+                dir.display()
+            );
+            out
+        }
+        None => {
+            let mut bars = StageBars::new();
+            let out = on_workers(args.parallel, || {
+                replay(&sweep, row, &mut bars, args.parallel)
+            })?;
+            bars.finish();
+            out
+        }
+    };
+    let replayed = match replayed {
+        Ok(r) => r,
+        Err(e @ ReplayError::OtherVersion { .. }) => {
+            println!("not compared: {e}");
+            return Ok(2);
+        }
+        Err(e) => return Err(e.into()),
+    };
+    if let (Some(path), Some(c)) = (&args.track, &replayed.collision) {
+        write_track(path, c)?;
+        println!("wrote the observables into {}", path.display());
+    }
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x}"));
+    println!(
+        "  stored   {} / {}, contact {}, decision {}, {} steps",
+        row.verdict,
+        row.outcome.as_deref().unwrap_or("-"),
+        opt(row.contact_time),
+        opt(row.decision_time),
+        row.collision_steps
+    );
+    let r = &replayed.result;
+    println!(
+        "  replayed {} / {}, contact {}, decision {}, {} steps",
+        r.verdict.as_str(),
+        r.outcome
+            .map_or("-".to_string(), |o| o.as_str().to_string()),
+        opt(r.contact_time),
+        opt(r.decision_time),
+        r.collision_steps
+    );
+    for line in verdict_lines(&replayed) {
+        println!("{line}");
+    }
+    Ok(if replayed.differences.is_empty() {
+        0
+    } else {
+        1
+    })
+}
+
+pub fn verify(args: VerifyArgs) -> anyhow::Result<i32> {
+    let sets = args.source.all_rows()?;
+    let mut chosen: Vec<(&Sweep, &ExportRow)> = sets
+        .iter()
+        .flat_map(|(sweep, rows)| rows.iter().map(move |r| (sweep, r)))
+        .collect();
+    let total = chosen.len();
+    if total == 0 {
+        bail!("{}: no finished rows to verify", args.source.name());
+    }
+    if !args.all {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
+        chosen.shuffle(&mut rng);
+        chosen.truncate(args.sample.max(1));
+    }
+    println!(
+        "verifying {} of {} rows of {} sweep(s) in {}{}",
+        chosen.len(),
+        total,
+        sets.len(),
+        args.source.name(),
+        if args.all {
+            String::new()
+        } else {
+            format!(", chosen with seed {}", args.seed)
+        }
+    );
+    let (mut same, mut differ, mut other) = (0, 0, 0);
+    for (k, (sweep, row)) in chosen.iter().enumerate() {
+        let started = std::time::Instant::now();
+        let what = match replay(sweep, row, &mut Silent, false) {
+            Ok(r) if r.differences.is_empty() => {
+                same += 1;
+                "identical".to_string()
+            }
+            Ok(r) => {
+                differ += 1;
+                verdict_lines(&r).join("; ")
+            }
+            Err(e @ ReplayError::OtherVersion { .. }) => {
+                other += 1;
+                format!("not compared: {e}")
+            }
+            Err(e) => {
+                return Err(e).context(format!(
+                    "replaying {} of {:?}",
+                    row_name(sweep, row),
+                    sweep.name
+                ))
+            }
+        };
+        println!(
+            "  [{}/{}] {:?} {} ({} {}, {:.0} s): {what}",
+            k + 1,
+            chosen.len(),
+            sweep.name,
+            row_name(sweep, row),
+            row.precision,
+            row.outcome.as_deref().unwrap_or(&row.verdict),
+            started.elapsed().as_secs_f64()
+        );
+    }
+    println!("{same} identical, {differ} differ, {other} of another solver version (not compared)");
+    Ok(if differ > 0 { 1 } else { 0 })
+}

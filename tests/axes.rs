@@ -219,3 +219,67 @@ fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
 }
+
+/// `reset` on a sweep with another axis (issue 50, 1): a point is named on any axis, an axis
+/// left out matches every value of it, and a name that is not an axis is refused (ignoring it
+/// put back points the user did not ask for).
+#[test]
+fn reset_puts_back_exactly_the_points_named_on_any_axis() {
+    let dir = workdir("axes", "reset");
+    write(&dir, "e0", "E0 = [2000, 2400]", "", 2.0);
+    let run = cellsweep_in(
+        &dir,
+        &["run", "e0.toml", "--db", "r.sqlite", "--workers", "2"],
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let db = dir.join("r.sqlite");
+    let done = || query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'");
+    assert_eq!(done(), 12);
+    // The point at E0 = 2400 only: 3 jobs at 1 point.
+    let out = cellsweep_in(
+        &dir,
+        &[
+            "reset",
+            "--db",
+            "r.sqlite",
+            "--point",
+            "alpha=0.1,beta=10,E0=2400",
+        ],
+    );
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(said.contains("put back 3 jobs at 1 points"), "{said}");
+    assert_eq!(done(), 9);
+    // The same through a CSV of points.
+    std::fs::write(dir.join("pts.csv"), "alpha,beta,E0\n0.12,10,2000\n").unwrap();
+    let out = cellsweep_in(&dir, &["reset", "--db", "r.sqlite", "--points", "pts.csv"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("put back 3 jobs at 1 points"));
+    assert_eq!(done(), 6);
+    // A name that is not an axis, on the flag or as a column: refused, nothing changed.
+    for args in [
+        vec!["reset", "--db", "r.sqlite", "--point", "alpha=0.1,foo=3"],
+        vec!["reset", "--db", "r.sqlite", "--points", "bad.csv"],
+    ] {
+        std::fs::write(dir.join("bad.csv"), "alpha,beta,foo\n0.1,10,1\n").unwrap();
+        let out = cellsweep_in(&dir, &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(
+            err.contains(
+                "\"foo\" is not an axis of the sweep (its axes: alpha, beta, L, sigma, E0)"
+            ),
+            "{err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert_eq!(done(), 6);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

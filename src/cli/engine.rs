@@ -144,12 +144,12 @@ pub struct ResetArgs {
     /// The sweep (needed when the store holds several).
     #[arg(long)]
     pub sweep: Option<String>,
-    /// Points to put back, as `alpha=0.1,beta=46` (any of alpha, beta, L, sigma; a key left
-    /// out matches every value): repeat it for several.
+    /// Points to put back, as `alpha=0.1,beta=46` (any axis of the sweep, E0 or R0 too; an
+    /// axis left out matches every value): repeat it for several.
     #[arg(long, value_name = "KEY=VALUE,...")]
     pub point: Vec<String>,
-    /// A CSV file of points to put back: a header naming any of alpha, beta, L, sigma (other
-    /// columns are ignored), one point per row.
+    /// A CSV file of points to put back: a header naming axes of the sweep (a column that is
+    /// not one is refused), one point per row.
     #[arg(long, value_name = "FILE.csv")]
     pub points: Option<std::path::PathBuf>,
     /// Say what would be put back, changing nothing.

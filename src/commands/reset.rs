@@ -8,50 +8,72 @@ use cellsweep_store::{PointRef, Store};
 
 use crate::cli::ResetArgs;
 
-/// The swept parameters a selector may name, as they are spelled in sweep files.
+/// The paper's axes; a sweep may have others (R0, E0, ...), which a selector may name too.
 const KEYS: [&str; 4] = ["alpha", "beta", "L", "sigma"];
 
-/// Points chosen by some of their parameters: `(key index, value)` pairs, all of which must hold.
+/// Points chosen by some of their axes: `(axis, value)` pairs, all of which must hold.
 #[derive(Debug)]
 struct Selector {
     text: String,
-    terms: Vec<(usize, f64)>,
+    terms: Vec<(String, f64)>,
 }
 
 impl Selector {
-    fn new(text: String, pairs: Vec<(&str, &str)>) -> anyhow::Result<Selector> {
-        let mut terms = Vec::new();
+    /// A selector over the axes `axes` of the sweep (an unknown name is refused, never ignored:
+    /// ignoring it would put back every value of that axis).
+    fn new(text: String, pairs: Vec<(&str, &str)>, axes: &[String]) -> anyhow::Result<Selector> {
+        let mut terms: Vec<(String, f64)> = Vec::new();
         for (key, value) in pairs {
-            let Some(k) = KEYS.iter().position(|&x| x == key.trim()) else {
-                bail!("{text}: {key:?} is not a swept parameter (one of alpha, beta, L, sigma)");
-            };
-            if terms.iter().any(|&(t, _)| t == k) {
+            let key = key.trim();
+            if !axes.iter().any(|a| a == key) {
+                bail!(
+                    "{text}: {key:?} is not an axis of the sweep (its axes: {})",
+                    axes.join(", ")
+                );
+            }
+            if terms.iter().any(|(t, _)| t == key) {
                 bail!("{text}: {key} is given twice");
             }
-            let v: f64 = value
-                .trim()
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .with_context(|| format!("{text}: {key} = {value:?} is not a finite number"))?;
-            terms.push((k, v));
+            let v: f64 = match (key, value.trim()) {
+                ("geometry", "one") => 1.0,
+                ("geometry", "two") => 2.0,
+                (_, v) => v
+                    .parse()
+                    .ok()
+                    .filter(|v: &f64| v.is_finite())
+                    .with_context(|| format!("{text}: {key} = {value:?} is not a finite number"))?,
+            };
+            terms.push((key.to_string(), v));
         }
         if terms.is_empty() {
-            bail!("{text}: names no parameter (write e.g. alpha=0.1,beta=46)");
+            bail!("{text}: names no axis (write e.g. alpha=0.1,beta=46)");
         }
         Ok(Selector { text, terms })
     }
 
     fn matches(&self, p: &PointRef) -> bool {
-        let values = [p.alpha, p.beta, f64::from(p.L), p.sigma];
-        self.terms
+        let names: Vec<&str> = self
+            .terms
             .iter()
-            .all(|&(k, v)| (values[k] - v).abs() <= 1e-9 * v.abs().max(1.0))
+            .map(|(k, _)| k.as_str())
+            .filter(|k| !KEYS.contains(k))
+            .collect();
+        let others = cellsweep_store::point_others(&p.config, &names);
+        self.terms.iter().all(|(k, v)| {
+            let have = match k.as_str() {
+                "alpha" => p.alpha,
+                "beta" => p.beta,
+                "L" => f64::from(p.L),
+                "sigma" => p.sigma,
+                other => others.get(other).unwrap_or(f64::NAN),
+            };
+            (have - v).abs() <= 1e-9 * v.abs().max(1.0)
+        })
     }
 }
 
-/// `--point alpha=0.1,beta=46`.
-fn parse_point(text: &str) -> anyhow::Result<Selector> {
+/// `--point alpha=0.1,beta=46` (any axis of the sweep).
+fn parse_point(text: &str, axes: &[String]) -> anyhow::Result<Selector> {
     let label = format!("--point {text}");
     let mut pairs = Vec::new();
     for term in text.split(',').filter(|t| !t.trim().is_empty()) {
@@ -60,11 +82,11 @@ fn parse_point(text: &str) -> anyhow::Result<Selector> {
         };
         pairs.push((k, v));
     }
-    Selector::new(label, pairs)
+    Selector::new(label, pairs, axes)
 }
 
-/// `--points FILE.csv`: one selector per row, from the columns named alpha, beta, L, sigma.
-fn read_points(path: &std::path::Path) -> anyhow::Result<Vec<Selector>> {
+/// `--points FILE.csv`: one selector per row; every column must name an axis of the sweep.
+fn read_points(path: &std::path::Path, axes: &[String]) -> anyhow::Result<Vec<Selector>> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
     let mut reader = csv::ReaderBuilder::new()
@@ -74,13 +96,12 @@ fn read_points(path: &std::path::Path) -> anyhow::Result<Vec<Selector>> {
         .headers()
         .with_context(|| format!("{file}: unreadable header"))?
         .clone();
-    let columns: Vec<(usize, &str)> = header
-        .iter()
-        .enumerate()
-        .filter(|(_, h)| KEYS.contains(h))
-        .collect();
-    if columns.is_empty() {
-        bail!("{file}: the header names none of alpha, beta, L, sigma");
+    let columns: Vec<(usize, &str)> = header.iter().enumerate().collect();
+    if let Some((_, h)) = columns.iter().find(|(_, h)| !axes.iter().any(|a| a == h)) {
+        bail!(
+            "{file}: column {h:?} is not an axis of the sweep (its axes: {})",
+            axes.join(", ")
+        );
     }
     let mut out = Vec::new();
     for (i, row) in reader.records().enumerate() {
@@ -89,7 +110,11 @@ fn read_points(path: &std::path::Path) -> anyhow::Result<Vec<Selector>> {
             .iter()
             .map(|&(c, key)| (key, row.get(c).unwrap_or("")))
             .collect();
-        out.push(Selector::new(format!("{file}: row {}", i + 1), pairs)?);
+        out.push(Selector::new(
+            format!("{file}: row {}", i + 1),
+            pairs,
+            axes,
+        )?);
     }
     if out.is_empty() {
         bail!("{file}: no points listed");
@@ -98,20 +123,30 @@ fn read_points(path: &std::path::Path) -> anyhow::Result<Vec<Selector>> {
 }
 
 pub fn run(args: ResetArgs) -> anyhow::Result<()> {
-    let mut selectors: Vec<Selector> = args
-        .point
-        .iter()
-        .map(|p| parse_point(p))
-        .collect::<anyhow::Result<_>>()?;
-    if let Some(path) = &args.points {
-        selectors.extend(read_points(path)?);
-    }
-    if selectors.is_empty() {
+    if args.point.is_empty() && args.points.is_none() {
         bail!("say which points to put back: --point alpha=0.1,beta=46 or --points FILE.csv");
     }
     let db = &args.db.db;
-    // A store that is not there (or not ours) is named before any lock file is made beside it.
-    drop(Store::open_read(db)?);
+    // The sweep and its axes, read before anything is locked or written: a selector that does
+    // not fit the sweep is refused with the store as it was.
+    let (name, axes) = {
+        let store = Store::open_read(db)?;
+        let name = store.choose_sweep(args.sweep.as_deref())?;
+        let id = store.sweep_id(&name)?;
+        let sweep: cellsweep_scheduler::Sweep = serde_json::from_str(&store.sweep_spec(id)?)
+            .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;
+        let mut axes: Vec<String> = KEYS.iter().map(|k| k.to_string()).collect();
+        axes.extend(sweep.grid.others.iter().map(|a| a.name.clone()));
+        (name, axes)
+    };
+    let mut selectors: Vec<Selector> = args
+        .point
+        .iter()
+        .map(|p| parse_point(p, &axes))
+        .collect::<anyhow::Result<_>>()?;
+    if let Some(path) = &args.points {
+        selectors.extend(read_points(path, &axes)?);
+    }
     // No run may be live while its jobs are put back (a dry run only reads).
     let _lock = if args.dry_run {
         None
@@ -123,7 +158,6 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
     } else {
         Store::open(db)?
     };
-    let name = store.choose_sweep(args.sweep.as_deref())?;
     let sweep_id = store.sweep_id(&name)?;
     let points = store.sweep_points(sweep_id)?;
     let mut chosen: Vec<i64> = Vec::new();

@@ -10,7 +10,7 @@ use crate::database::Store;
 use crate::error::Result;
 
 /// A registered point: its row id and the four swept parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[allow(non_snake_case)]
 pub struct PointRef {
     pub id: i64,
@@ -18,6 +18,8 @@ pub struct PointRef {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
+    /// The point's configuration as stored (JSON), where its other axes' values are.
+    pub config: String,
 }
 
 /// What [`Store::reset_points`] changed.
@@ -35,7 +37,7 @@ impl Store {
     /// Every point of a sweep, in grid order.
     pub fn sweep_points(&self, sweep_id: i64) -> Result<Vec<PointRef>> {
         let mut q = self.conn.prepare(
-            "SELECT id, alpha, beta, L, sigma FROM points WHERE sweep_id = ?1 ORDER BY idx",
+            "SELECT id, alpha, beta, L, sigma, params FROM points WHERE sweep_id = ?1 ORDER BY idx",
         )?;
         let rows = q.query_map([sweep_id], |r| {
             Ok(PointRef {
@@ -44,6 +46,7 @@ impl Store {
                 beta: r.get(2)?,
                 L: r.get(3)?,
                 sigma: r.get(4)?,
+                config: r.get(5)?,
             })
         })?;
         Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)

@@ -255,3 +255,63 @@ fn a_replicate_of_the_committed_paper_data_replays_identically() {
     assert!(said.contains("stored   unstable"), "{said}");
     assert!(said.lines().any(|l| l == "identical"), "{said}");
 }
+
+/// Import checks a row's speeds against the prep it recomputes (issue 50, 3): a free speed the
+/// prep does not have, or a threshold the classifier would not give for it, is refused with
+/// the store as it was.
+#[test]
+fn import_refuses_speeds_that_contradict_the_prep_it_recomputes() {
+    let dir = workdir("replay", "import-speeds");
+    write_sweep(&dir);
+    assert!(cellsweep_in(&dir, &["run", "s.toml", "--db", "r.sqlite"])
+        .status
+        .success());
+    assert!(
+        cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "r.csv"])
+            .status
+            .success()
+    );
+    let original = std::fs::read_to_string(dir.join("r.csv")).unwrap();
+    let header_at = original
+        .lines()
+        .position(|l| l.starts_with("sweep,"))
+        .unwrap();
+    let header: Vec<&str> = original
+        .lines()
+        .nth(header_at)
+        .unwrap()
+        .split(',')
+        .collect();
+    for (field, value, words) in [
+        ("free_speed", "0.1", "free_speed 0.1 contradicts its prep's"),
+        (
+            "threshold_speed",
+            "0.2",
+            "threshold_speed 0.2 contradicts the classifier's",
+        ),
+    ] {
+        let c = header.iter().position(|h| *h == field).unwrap();
+        let mut lines: Vec<String> = original.lines().map(String::from).collect();
+        let mut cells: Vec<String> = lines[header_at + 1].split(',').map(String::from).collect();
+        cells[c] = value.to_string();
+        lines[header_at + 1] = cells.join(",");
+        std::fs::write(dir.join("bad.csv"), lines.join("\n") + "\n").unwrap();
+        let db = format!("fresh-{field}.sqlite");
+        let out = cellsweep_in(&dir, &["import", "bad.csv", "--db", &db]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{field}: {}", text(&out));
+        assert!(err.contains(words), "{err}");
+        let rows = rusqlite::Connection::open(dir.join(&db))
+            .ok()
+            .and_then(|c| {
+                c.query_row("SELECT COUNT(*) FROM results", [], |r| r.get::<_, i64>(0))
+                    .ok()
+            })
+            .unwrap_or(0);
+        assert_eq!(rows, 0, "nothing imported");
+    }
+    // The untouched export imports.
+    let out = cellsweep_in(&dir, &["import", "r.csv", "--db", "good.sqlite"]);
+    assert!(out.status.success(), "{}", text(&out));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 
 use rusqlite::params;
+use rusqlite::OptionalExtension;
 use serde::{Deserialize, Serialize};
 
 use cellsweep_stats::{Axes, Others};
@@ -290,6 +291,19 @@ impl Store {
             });
         }
         Ok(out)
+    }
+
+    /// A done prep's free speed (None for a prep that is not done, or has none).
+    pub fn prep_free_speed(&self, prep_id: i64) -> Result<Option<f64>> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT free_speed FROM preps WHERE id = ?1 AND state = 'done'",
+                [prep_id],
+                |r| r.get::<_, Option<f64>>(0),
+            )
+            .optional()?
+            .flatten())
     }
 
     /// FNV-1a of a done prep's phi and P bytes, in hex ("" for a prep that is not done).

@@ -89,7 +89,7 @@ fn a_stored_replicate_replays_identically_from_a_store_and_from_its_export_with_
     let said = text(&v);
     assert!(v.status.success(), "{said}");
     assert!(
-        said.contains("4 identical, 0 differ, 0 of another solver version"),
+        said.contains("4 identical, 0 identical to round-off in a speed, 0 differ, 0 of another solver version"),
         "{said}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
@@ -155,7 +155,39 @@ fn a_tampered_row_is_named_field_by_field_and_another_version_is_not_compared() 
     // verify counts it.
     let v = cellsweep_in(&dir, &["verify", "--data", "steps.csv", "--all"]);
     assert_eq!(v.status.code(), Some(1));
-    assert!(text(&v).contains("3 identical, 1 differ"), "{}", text(&v));
+    assert!(
+        text(&v).contains("3 identical, 0 identical to round-off in a speed, 1 differ"),
+        "{}",
+        text(&v)
+    );
+
+    // A free speed one ulp off (as rows stored before floats crossed JSON exactly): round-off.
+    std::fs::write(
+        dir.join("ulp.csv"),
+        tamper("free_speed", &|v| {
+            let x: f64 = v.parse().unwrap();
+            format!("{:?}", f64::from_bits(x.to_bits() + 1))
+        }),
+    )
+    .unwrap();
+    let out = cellsweep_in(
+        &dir,
+        &[
+            "replay",
+            "--data",
+            "ulp.csv",
+            "--point",
+            "alpha=0.1,beta=10",
+            "--replicate",
+            "1",
+        ],
+    );
+    let said = text(&out);
+    assert!(out.status.success(), "{said}");
+    assert!(
+        said.contains("round-off: free_speed: stored") && said.contains("identical to round-off"),
+        "{said}"
+    );
 
     std::fs::write(
         dir.join("version.csv"),

@@ -40,25 +40,37 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&json_rows(&store, &all, args.failed)?)?
+            serde_json::to_string_pretty(&json_rows(
+                &store,
+                &all,
+                args.failed,
+                cellsweep_scheduler::StoreLock::is_held(&args.db.db)
+            )?)?
         );
         return Ok(());
     }
     if all.is_empty() {
         println!("no sweeps in {}", args.db.db.display());
     }
+    let live = cellsweep_scheduler::StoreLock::is_held(&args.db.db);
     for s in &all {
-        print_sweep(&store, s, args.failed)?;
+        print_sweep(&store, s, args.failed, live)?;
     }
     Ok(())
 }
 
 /// `status --json`: one object per sweep and solver version, with its adaptive standings,
 /// failures (with `--failed`) and Slurm arrays where it has them.
-fn json_rows(store: &Store, all: &[SweepStatus], failed: bool) -> anyhow::Result<Vec<Value>> {
+fn json_rows(
+    store: &Store,
+    all: &[SweepStatus],
+    failed: bool,
+    live: bool,
+) -> anyhow::Result<Vec<Value>> {
     let mut rows = Vec::new();
     for s in all {
         let mut v = serde_json::to_value(s)?;
+        v["live"] = serde_json::json!(live);
         let arrays = match store.sweep_id(&s.sweep) {
             Ok(id) => store.arrays_of(id, &s.solver_version)?,
             Err(_) => Vec::new(),
@@ -83,7 +95,9 @@ fn json_rows(store: &Store, all: &[SweepStatus], failed: bool) -> anyhow::Result
 }
 
 /// One sweep's status in a few lines.
-fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<()> {
+/// `live`: whether a writer holds the store now (else jobs marked running were left by a run
+/// that died, and no ETA is given).
+fn print_sweep(store: &Store, s: &SweepStatus, failed: bool, live: bool) -> anyhow::Result<()> {
     let j = &s.jobs;
     let current = if s.solver_version == SOLVER_VERSION {
         ""
@@ -91,12 +105,19 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<(
         " (another solver version)"
     };
     println!("{} [{}{}]", s.sweep, s.solver_version, current);
+    let running = if live || j.running == 0 {
+        format!("{} running", j.running)
+    } else {
+        format!(
+            "{} interrupted (no run holds the store: the next run takes them up again)",
+            j.running
+        )
+    };
     println!(
-        "  jobs     {} done / {} total · {} pending · {} running · {} failed",
+        "  jobs     {} done / {} total · {} pending · {running} · {} failed",
         j.done,
         j.total(),
         j.pending,
-        j.running,
         j.failed
     );
     println!("  preps    {} / {} done", s.preps_done, s.preps_total);
@@ -121,7 +142,16 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool) -> anyhow::Result<(
         print_failures(store, &s.sweep, &s.solver_version)?;
     }
     if let Some(line) = speed_line(s.jobs_per_s, (j.pending + j.running) as f64) {
-        println!("  speed    {line}");
+        match live {
+            true => println!("  speed    {line}"),
+            false if j.pending + j.running > 0 => {
+                println!(
+                    "  speed    stopped: no run holds the store (the last run's speed: {})",
+                    line.split(" · ETA").next().unwrap_or(&line)
+                )
+            }
+            false => println!("  speed    {line}"),
+        }
     }
     Ok(())
 }

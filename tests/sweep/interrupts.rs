@@ -18,6 +18,19 @@ fn a_coordinator_killed_mid_run_resumes_with_every_job_counted_once() {
         2,
         Duration::from_secs(120),
     );
+    // While the run holds the store, status says its jobs run (issue 50, 5).
+    let status = |json: bool| {
+        let mut args = vec!["status", "--db", db.to_str().unwrap()];
+        if json {
+            args.push("--json");
+        }
+        String::from_utf8_lossy(&cellsweep(&args, &[]).stdout).into_owned()
+    };
+    let live = status(false);
+    assert!(
+        live.contains(" running ·") && !live.contains("interrupted"),
+        "{live}"
+    );
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
     let done = db_query(&db, "SELECT COUNT(*) FROM results");
@@ -26,6 +39,14 @@ fn a_coordinator_killed_mid_run_resumes_with_every_job_counted_once() {
         db_query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'running'") > 0,
         "jobs were in flight"
     );
+    // Once the run is dead, its jobs read as interrupted and no ETA is promised.
+    let dead = status(false);
+    assert!(
+        dead.contains("interrupted (no run holds the store"),
+        "{dead}"
+    );
+    assert!(!dead.contains("ETA"), "{dead}");
+    assert!(status(true).contains("\"live\": false"));
 
     let out = cellsweep(
         &[

@@ -93,7 +93,19 @@ impl StoreLock {
             .truncate(false)
             .open(&path)
             .map_err(io)?;
-        match file.try_lock() {
+        // A reader's probe ([`StoreLock::is_held`]) holds a shared lock for a moment: a few
+        // short waits ride it out; a writer holds it for good.
+        let mut tries = 0;
+        let taken = loop {
+            match file.try_lock() {
+                Err(TryLockError::WouldBlock) if tries < 5 => {
+                    tries += 1;
+                    std::thread::sleep(std::time::Duration::from_millis(20));
+                }
+                other => break other,
+            }
+        };
+        match taken {
             Ok(()) => {}
             Err(TryLockError::WouldBlock) => {
                 let mut holder = String::new();
@@ -130,5 +142,26 @@ impl StoreLock {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Whether a writer holds the store at `db` now (a run, a submit watching, a collect, an
+    /// import). Jobs marked `running` in a store no writer holds were left by a run that died;
+    /// the next run recovers them. Probes with a shared lock for a moment, never creating the
+    /// lock file; false where there is none.
+    pub fn is_held(db: &Path) -> bool {
+        let Ok(id) = Self::identity(db) else {
+            return false;
+        };
+        let Ok(file) = File::open(Self::path_of(&id)) else {
+            return false;
+        };
+        match file.try_lock_shared() {
+            Ok(()) => {
+                let _ = file.unlock();
+                false
+            }
+            Err(TryLockError::WouldBlock) => true,
+            Err(TryLockError::Error(_)) => false,
+        }
     }
 }

@@ -96,7 +96,11 @@ fn sweep_section(h: &mut String, v: &SweepView) {
     let (class, word) = match (v.finished, j.running > 0, j.failed > 0) {
         (true, _, true) => ("failed", "finished with failures"),
         (true, _, false) => ("finished", "finished"),
-        (false, true, _) => ("running", "running"),
+        (false, true, _) if v.live => ("running", "running"),
+        (false, true, _) => (
+            "idle",
+            "stopped (no run holds the store: its running jobs were interrupted)",
+        ),
         (false, false, _) => ("idle", "waiting (nothing running)"),
     };
     let other = if v.current {
@@ -116,8 +120,16 @@ fn sweep_section(h: &mut String, v: &SweepView) {
         done = j.done,
     );
     jobs_table(h, j, st.preps_done, st.preps_total);
-    let speed = speed_line(st.jobs_per_s, (j.pending + j.running) as f64)
-        .unwrap_or_else(|| "no job finished yet".to_string());
+    let speed = match speed_line(st.jobs_per_s, (j.pending + j.running) as f64) {
+        Some(line) if !v.live && j.pending + j.running > 0 => {
+            format!(
+                "stopped (the last run's speed: {})",
+                line.split(" · ETA").next().unwrap_or(&line)
+            )
+        }
+        Some(line) => line,
+        None => "no job finished yet".to_string(),
+    };
     let _ = writeln!(
         h,
         "<p>speed <span data-field=\"speed\">{}</span></p>",

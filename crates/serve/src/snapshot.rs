@@ -23,6 +23,9 @@ pub struct SweepView {
     pub current: bool,
     /// Nothing pending or running, and no point open for another adaptive round.
     pub finished: bool,
+    /// A writer holds the store now (a run, a watching submit): else jobs marked running were
+    /// left by a run that died.
+    pub live: bool,
     /// Points by adaptive standing (open, settled, sign, exhausted, verdict).
     pub standings: Option<BTreeMap<&'static str, usize>>,
     /// Points registered, and of them those refinement added between the grid's betas.
@@ -66,8 +69,11 @@ impl Snapshot {
         let all = store.status().map_err(|e| e.to_string())?;
         let names = store.sweep_names().map_err(|e| e.to_string())?;
         let mut sweeps = Vec::new();
+        let live = cellsweep_scheduler::StoreLock::is_held(path);
         for status in all {
-            sweeps.push(sweep_view(store, path, status)?);
+            let mut view = sweep_view(store, path, status)?;
+            view.live = live;
+            sweeps.push(view);
         }
         let message = match (names.is_empty(), sweeps.is_empty()) {
             (true, _) => Some(format!("{} holds no sweep yet", path.display())),
@@ -133,6 +139,7 @@ fn sweep_view(store: &Store, path: &Path, status: SweepStatus) -> Result<SweepVi
             .map_err(|x| e(&x)),
     };
     Ok(SweepView {
+        live: false,
         current,
         finished,
         standings,

@@ -359,7 +359,7 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
         ),
         (
             vec!["--point", "gamma=1"],
-            "\"gamma\" is not a swept parameter",
+            "\"gamma\" is not an axis of the sweep",
         ),
         (vec!["--point", "alpha=NaN"], "is not a finite number"),
         (
@@ -381,7 +381,14 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
         "no database at none.sqlite",
     );
     assert!(!dir.join("none.sqlite").exists() && !dir.join("none.sqlite.lock").exists());
+    // A column that is not an axis is refused, not ignored (issue 50: a mistyped axis would
+    // put back every value of the axis it meant).
     std::fs::write(dir.join("pts.csv"), "beta,alpha,note\n10,0.1,x\n").unwrap();
+    refused(
+        &cellsweep_in(&dir, &["reset", "--db", "r.sqlite", "--points", "pts.csv"]),
+        "column \"note\" is not an axis of the sweep",
+    );
+    std::fs::write(dir.join("pts.csv"), "beta,alpha\n10,0.1\n").unwrap();
     let dry = ok(&cellsweep_in(
         &dir,
         &[

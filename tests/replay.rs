@@ -95,23 +95,27 @@ fn a_stored_replicate_replays_identically_from_a_store_and_from_its_export_with_
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-#[test]
-fn a_tampered_row_is_named_field_by_field_and_another_version_is_not_compared() {
-    let dir = workdir("replay", "tampered");
-    write_sweep(&dir);
-    assert!(cellsweep_in(&dir, &["run", "s.toml", "--db", "r.sqlite"])
-        .status
-        .success());
-    assert!(
-        cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "r.csv"])
-            .status
-            .success()
-    );
+/// The sweep run and exported into `dir/r.csv`: the export's text and its header's line.
+fn exported(dir: &Path) -> (String, usize) {
+    write_sweep(dir);
+    let run: &[&str] = &["run", "s.toml", "--db", "r.sqlite"];
+    let export: &[&str] = &["export", "--db", "r.sqlite", "--out", "r.csv"];
+    for args in [run, export] {
+        let out = cellsweep_in(dir, args);
+        assert!(out.status.success(), "{}", text(&out));
+    }
     let original = std::fs::read_to_string(dir.join("r.csv")).unwrap();
     let header_at = original
         .lines()
         .position(|l| l.starts_with("sweep,"))
         .unwrap();
+    (original, header_at)
+}
+
+#[test]
+fn a_tampered_row_is_named_field_by_field_and_another_version_is_not_compared() {
+    let dir = workdir("replay", "tampered");
+    let (original, header_at) = exported(&dir);
     let header: Vec<&str> = original
         .lines()
         .nth(header_at)
@@ -294,20 +298,7 @@ fn a_replicate_of_the_committed_paper_data_replays_identically() {
 #[test]
 fn import_refuses_speeds_that_contradict_the_prep_it_recomputes() {
     let dir = workdir("replay", "import-speeds");
-    write_sweep(&dir);
-    assert!(cellsweep_in(&dir, &["run", "s.toml", "--db", "r.sqlite"])
-        .status
-        .success());
-    assert!(
-        cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "r.csv"])
-            .status
-            .success()
-    );
-    let original = std::fs::read_to_string(dir.join("r.csv")).unwrap();
-    let header_at = original
-        .lines()
-        .position(|l| l.starts_with("sweep,"))
-        .unwrap();
+    let (original, header_at) = exported(&dir);
     let header: Vec<&str> = original
         .lines()
         .nth(header_at)

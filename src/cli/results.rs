@@ -216,15 +216,8 @@ pub struct ReplayArgs {
     /// The replicate's index at that point.
     #[arg(long)]
     pub replicate: u32,
-    /// Write PNG snapshots of the replayed collision and an animated GIF into this folder.
-    #[arg(long, value_name = "DIR")]
-    pub frames: Option<std::path::PathBuf>,
-    /// Time between snapshots, tau0.
-    #[arg(long, default_value_t = 10.0)]
-    pub frame_every: f64,
-    /// Write the replayed collision's observables (one JSON object per sample) to this file.
-    #[arg(long, value_name = "FILE")]
-    pub track: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub movie: super::MovieArgs,
     /// Split every step over two threads (the same result, bit for bit).
     #[arg(long)]
     pub parallel: bool,

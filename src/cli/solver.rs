@@ -75,16 +75,8 @@ pub struct SimulateArgs {
     /// faster for one interactive run on 2 cores. Sweeps run one process per core instead.
     #[arg(long)]
     pub parallel: bool,
-    /// Write PNG snapshots of the collision (phi with its 0.5 contour, fibers, polarity) into
-    /// this folder, and an animated GIF of them.
-    #[arg(long, value_name = "DIR")]
-    pub frames: Option<std::path::PathBuf>,
-    /// Time between snapshots, tau0.
-    #[arg(long, default_value_t = 10.0)]
-    pub frame_every: f64,
-    /// Write the collision's observables (one JSON object per sample) to this file.
-    #[arg(long, value_name = "FILE")]
-    pub track: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub movie: MovieArgs,
     /// Print the result as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -128,4 +120,19 @@ impl CollisionNumerics {
         protocol.patch.bound = self.patch_bound;
         protocol.precision = self.precision;
     }
+}
+
+/// A collision's movie and observables (`simulate`, `replay`).
+#[derive(Debug, Args, Clone)]
+pub struct MovieArgs {
+    /// Write PNG snapshots of the collision (phi with its 0.5 contour, fibers, polarity) into
+    /// this folder, and an animated GIF of them.
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<std::path::PathBuf>,
+    /// Time between snapshots, tau0.
+    #[arg(long, default_value_t = 10.0)]
+    pub frame_every: f64,
+    /// Write the collision's observables (one JSON object per sample) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub track: Option<std::path::PathBuf>,
 }

@@ -166,9 +166,9 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<i32> {
         row.collision_seed,
         row.precision
     );
-    let replayed = match &args.frames {
+    let replayed = match &args.movie.frames {
         Some(dir) => {
-            let mut rec = FrameRecorder::new(dir, args.frame_every)?;
+            let mut rec = FrameRecorder::new(dir, args.movie.frame_every)?;
             let out = on_workers(args.parallel, || {
                 replay(&sweep, row, &mut rec, args.parallel)
             })?;
@@ -196,7 +196,7 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<i32> {
         }
         Err(e) => return Err(e.into()),
     };
-    if let (Some(path), Some(c)) = (&args.track, &replayed.collision) {
+    if let (Some(path), Some(c)) = (&args.movie.track, &replayed.collision) {
         write_track(path, c)?;
         println!("wrote the observables into {}", path.display());
     }

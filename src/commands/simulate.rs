@@ -37,7 +37,7 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let (result, prep, collision) = trajectory(&args, &config, seeds)?;
     let wall = started.elapsed().as_secs_f64();
-    if let (Some(path), Some(c)) = (&args.track, &collision) {
+    if let (Some(path), Some(c)) = (&args.movie.track, &collision) {
         write_track(path, c)?;
     }
     if args.json {
@@ -85,9 +85,9 @@ fn trajectory(
     config: &Config,
     seeds: Seeds,
 ) -> anyhow::Result<(TrajectoryResult, Prep, Option<Collision>)> {
-    Ok(match &args.frames {
+    Ok(match &args.movie.frames {
         Some(dir) => {
-            let mut rec = FrameRecorder::new(dir, args.frame_every)?;
+            let mut rec = FrameRecorder::new(dir, args.movie.frame_every)?;
             let out = on_workers(args.parallel, || {
                 run_trajectory(config, seeds, &mut rec, args.parallel)
             })??;

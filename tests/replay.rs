@@ -333,6 +333,25 @@ fn import_refuses_speeds_that_contradict_the_prep_it_recomputes() {
             .unwrap_or(0);
         assert_eq!(rows, 0, "nothing imported");
     }
+    // Speeds one ulp off (another machine sums the prep's trajectory in another order) are
+    // round-off, not a contradiction: the file imports.
+    let c = header.iter().position(|h| *h == "free_speed").unwrap();
+    let nudged: Vec<String> = original
+        .lines()
+        .enumerate()
+        .map(|(i, line)| {
+            let mut cells: Vec<String> = line.split(',').map(String::from).collect();
+            if i > header_at {
+                if let Ok(v) = cells[c].parse::<f64>() {
+                    cells[c] = f64::from_bits(v.to_bits() + 1).to_string();
+                }
+            }
+            cells.join(",")
+        })
+        .collect();
+    std::fs::write(dir.join("ulp.csv"), nudged.join("\n") + "\n").unwrap();
+    let out = cellsweep_in(&dir, &["import", "ulp.csv", "--db", "ulp.sqlite"]);
+    assert!(out.status.success(), "{}", text(&out));
     // The untouched export imports.
     let out = cellsweep_in(&dir, &["import", "r.csv", "--db", "good.sqlite"]);
     assert!(out.status.success(), "{}", text(&out));

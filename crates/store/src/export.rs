@@ -196,12 +196,33 @@ impl ExportRow {
             Some(serde_json::Value::String(s)) => s.clone(),
             Some(v) => v.to_string(),
         };
+        // The speeds are sums over the prep's trajectory: machines that vectorise the sums
+        // differently (AVX-512, AVX2) agree on them to round-off only, on the fields exactly.
+        const SUMS: [&str; 2] = ["free_speed", "threshold_speed"];
         let (a, b) = (fields(self), fields(other));
+        let alike = |k: &str, x: Option<&serde_json::Value>, y: Option<&serde_json::Value>| {
+            match (x.and_then(|v| v.as_f64()), y.and_then(|v| v.as_f64())) {
+                (Some(x), Some(y)) if SUMS.contains(&k) => {
+                    same_to_round_off(Some(x), Some(y))
+                }
+                _ => x == y,
+            }
+        };
         a.keys()
             .filter(|k| !NOT_RESULTS.contains(&k.as_str()))
-            .filter(|k| a.get(*k) != b.get(*k))
+            .filter(|k| !alike(k, a.get(*k), b.get(*k)))
             .map(|k| (k.clone(), text(a.get(k)), text(b.get(k))))
             .collect()
+    }
+}
+
+/// Two speeds equal to round-off (1e-12 relative), or both absent: a prep's speeds computed
+/// on two machines, or written before JSON carried floats exactly, can be an ulp apart.
+pub fn same_to_round_off(a: Option<f64>, b: Option<f64>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(x), Some(y)) => (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1e-300),
+        _ => false,
     }
 }
 
@@ -405,5 +426,27 @@ mod tests {
         same.prep_wall_s = None;
         same.sweep = format!("{}@7", row.sweep);
         assert!(row.result_differences(&same).is_empty());
+    }
+
+    #[test]
+    fn speeds_one_ulp_apart_are_alike_and_further_apart_are_not() {
+        let row = a_row();
+        let ulp = |v: f64| f64::from_bits(v.to_bits() + 1);
+        let mut other = row.clone();
+        other.free_speed = other.free_speed.map(ulp);
+        other.threshold_speed = other.threshold_speed.map(ulp);
+        assert!(row.result_differences(&other).is_empty());
+        other.free_speed = Some(0.1);
+        other.threshold_speed = None;
+        let named: Vec<String> = row
+            .result_differences(&other)
+            .into_iter()
+            .map(|(f, _, _)| f)
+            .collect();
+        assert_eq!(named, ["free_speed", "threshold_speed"]);
+        // Times are results of the collision itself: exact.
+        let mut later = row.clone();
+        later.decision_time = later.decision_time.map(ulp);
+        assert_eq!(row.result_differences(&later).len(), 1);
     }
 }

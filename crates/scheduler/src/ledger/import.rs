@@ -1,7 +1,7 @@
 //! Exported rows (`cellsweep import`) checked against the jobs they claim, and committed.
 
 use cellsweep_solver::{Config, Params};
-use cellsweep_store::export::{changed_params, ExportRow};
+use cellsweep_store::export::{changed_params, same_to_round_off, ExportRow};
 use cellsweep_store::{JobIdentity, JobState, ResultRecord, Store};
 use serde_json::json;
 
@@ -175,7 +175,7 @@ fn prep_problem(
     // The speeds follow from the prep: its free speed, and the classifier's threshold from it.
     // (To round-off: rows written before JSON carried floats exactly can be an ulp off.)
     let free = store.prep_free_speed(job.prep_id)?;
-    if !same_speed(row.free_speed, free) {
+    if !same_to_round_off(row.free_speed, free) {
         return Ok(Some(format!(
             "free_speed {} contradicts its prep's {}",
             shown(row.free_speed),
@@ -185,7 +185,7 @@ fn prep_problem(
     if row.outcome.is_some() {
         let config: Config = serde_json::from_str(&job.config)?;
         let threshold = Some(config.classifier.threshold_speed(free.unwrap_or(0.0)));
-        if !same_speed(row.threshold_speed, threshold) {
+        if !same_to_round_off(row.threshold_speed, threshold) {
             return Ok(Some(format!(
                 "threshold_speed {} contradicts the classifier's {} for its prep",
                 shown(row.threshold_speed),
@@ -194,15 +194,6 @@ fn prep_problem(
         }
     }
     Ok(None)
-}
-
-/// Equal to round-off (1e-12 relative), or both absent.
-fn same_speed(a: Option<f64>, b: Option<f64>) -> bool {
-    match (a, b) {
-        (None, None) => true,
-        (Some(x), Some(y)) => (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1e-300),
-        _ => false,
-    }
 }
 
 fn shown(v: Option<f64>) -> String {

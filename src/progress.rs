@@ -3,6 +3,7 @@
 use std::io::IsTerminal;
 
 use cellsweep_solver::{Monitor, Stage};
+use cellsweep_stats::End;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// A solver [`Monitor`] that draws one bar per stage on stderr when stderr is a terminal.
@@ -101,20 +102,10 @@ impl SweepBar {
                     .unwrap_or_else(|| "collisions running, speed after the first".into()),
             );
         }
-        let mut ends = format!(
-            "train {} walk {} rev {} undet {}",
-            o.train, o.walk_past, o.reversal, o.undetermined
-        );
-        if o.collision_breakup > 0 {
-            ends += &format!(" broke up {}", o.collision_breakup);
-        }
-        parts.push(ends);
+        parts.push(o.line(End::short, " "));
         parts.push(format!("preps {}/{}", p.preps_done, p.preps_total));
         if let Some(n) = p.refined_points {
             parts.push(format!("refined +{n} betas"));
-        }
-        if o.unstable + o.breakup > 0 {
-            parts.push(format!("unstable {} breakup {}", o.unstable, o.breakup));
         }
         if p.failed > 0 || p.retries > 0 {
             parts.push(format!("failed {} retried {}", p.failed, p.retries));

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::bail;
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_stats::{compare, Comparison, End, EndCounts, Label, PointComparison, Test};
+use cellsweep_stats::{compare, Comparison, End, Label, PointComparison, Tally, Test};
 use cellsweep_store::Store;
 use serde_json::json;
 
@@ -55,18 +55,15 @@ fn load(db: &Path, name: &str, version: Option<&str>) -> anyhow::Result<Side> {
     })
 }
 
-/// train / walk-past / reversal / undetermined / collision breakup / prep verdict (unstable or
-/// breakup).
-fn counts_text(c: &EndCounts) -> String {
-    format!(
-        "{}/{}/{}/{}/{}/{}",
-        c[0],
-        c[1],
-        c[2],
-        c[3],
-        c[6],
-        c[4] + c[5]
-    )
+/// The ends' initials, in the order of [`End::ALL`], slash-separated (`tr/wp/rv/...`).
+fn initials() -> String {
+    End::ALL.map(End::initials).join("/")
+}
+
+/// Each end's count, in the order of [`End::ALL`], slash-separated.
+fn counts_text(c: &Tally) -> String {
+    let counts: Vec<String> = c.iter().map(|(_, n)| n.to_string()).collect();
+    counts.join("/")
 }
 
 fn label_text(l: Option<Label>) -> &'static str {
@@ -97,13 +94,13 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
     }
     println!();
     println!(
-        "{:>6} {:>6} {:>4} {:>5}  {:>18} {:>18}  {:>9}  {:>13}  {:>7}  labels",
+        "{:>6} {:>6} {:>4} {:>5}  {:>20} {:>20}  {:>9}  {:>13}  {:>7}  labels",
         "alpha",
         "beta",
         "L",
         "sigma",
-        "A tr/wp/rv/un/bu/v",
-        "B tr/wp/rv/un/bu/v",
+        format!("A {}", initials()),
+        format!("B {}", initials()),
         "alike",
         "|dt| mean/max",
         "p"
@@ -120,7 +117,7 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
             ""
         };
         println!(
-            "{:>6} {:>6} {:>4} {:>5}  {:>18} {:>18}  {:>9}  {:>13}  {:>7}  {:>2} {:>2}{differ}",
+            "{:>6} {:>6} {:>4} {:>5}  {:>20} {:>20}  {:>9}  {:>13}  {:>7}  {:>2} {:>2}{differ}",
             p.alpha,
             p.beta,
             p.L,
@@ -168,19 +165,10 @@ fn print_text(a: &Side, b: &Side, c: &Comparison) {
 }
 
 fn print_csv(c: &Comparison) {
-    let ends: [&str; End::ALL.len()] = [
-        "train",
-        "walk",
-        "reversal",
-        "undetermined",
-        "unstable",
-        "breakup",
-        "collision_breakup",
-    ];
     let mut header = "alpha,beta,L,sigma".to_string();
     for side in ["a", "b"] {
-        for e in ends {
-            header += &format!(",n_{e}_{side}");
+        for e in End::ALL {
+            header += &format!(",{}_{side}", e.count_key());
         }
     }
     header += ",label_a,label_b,matched,alike,decision_shift_mean,decision_shift_max,test,p_value";
@@ -191,8 +179,8 @@ fn print_csv(c: &Comparison) {
         let counts: Vec<String> = p
             .counts_a
             .iter()
-            .chain(&p.counts_b)
-            .map(u64::to_string)
+            .chain(p.counts_b.iter())
+            .map(|(_, n)| n.to_string())
             .collect();
         println!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{}",

@@ -1,24 +1,15 @@
 //! `cellsweep status`: progress of every sweep in the store (works while a sweep runs).
 
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{OutcomeCounts, Store, SweepStatus};
+use cellsweep_stats::{End, Tally};
+use cellsweep_store::{Store, SweepStatus};
 use serde_json::Value;
 
 use crate::cli::StatusArgs;
 use cellsweep_stats::throughput::speed_line;
 
-pub fn outcome_line(o: &OutcomeCounts) -> String {
-    let mut s = format!(
-        "train {} · walk_past {} · reversal {} · undetermined {}",
-        o.train, o.walk_past, o.reversal, o.undetermined
-    );
-    if o.collision_breakup > 0 {
-        s += &format!(" · broke up {}", o.collision_breakup);
-    }
-    if o.unstable + o.breakup > 0 {
-        s += &format!(" · unstable {} · breakup {}", o.unstable, o.breakup);
-    }
-    s
+pub fn outcome_line(o: &Tally) -> String {
+    o.line(End::words, " · ")
 }
 
 /// An adaptive sweep's points by standing (`None` for a fixed sweep, or another version).

@@ -1,12 +1,12 @@
 //! `cellsweep table`: each (L, sigma) phase diagram as a grid, and every point's counts,
 //! fractions with 95% Wilson intervals, and label; as text, CSV or JSON.
 
-use cellsweep_stats::{wilson, Assessment, Counts, Label};
+use cellsweep_stats::{wilson, Assessment, Counts, End, Label};
 use serde_json::json;
 
 use crate::cli::{Format, TableArgs};
 
-use cellsweep_report::text::{fraction_cell, fractions, grids_text, FRACTIONS, LEGEND};
+use cellsweep_report::text::{fraction_cell, fractions, grids_text, share_ends, LEGEND};
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
     let loaded = args.select.apply(args.source.load()?)?;
@@ -34,47 +34,32 @@ fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
     print!("{}", grids_text(counts));
     println!("{LEGEND}\n");
-    println!(
-        "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  label{}",
-        "alpha",
-        "beta",
-        "L",
-        "sigma",
-        "n",
-        "train",
-        "walk_past",
-        "reversal",
-        "undetermined",
-        "broke up",
-        if standings.is_some() {
-            "  standing (adaptive)"
-        } else {
-            ""
-        }
+    let mut head = format!(
+        "{:>6} {:>6} {:>4} {:>5} {:>4} ",
+        "alpha", "beta", "L", "sigma", "n"
     );
+    for e in share_ends() {
+        head += &format!(" {:>24}", e.words());
+    }
+    let adaptive = if standings.is_some() {
+        "  standing (adaptive)"
+    } else {
+        ""
+    };
+    println!("{head}  label{adaptive}");
     for (i, c) in counts.iter().enumerate() {
         let n = c.total();
-        let cells: Vec<String> = fractions(c)
-            .iter()
-            .map(|&(k, _)| fraction_cell(k, n))
-            .collect();
+        let mut line = format!(
+            "{:>6} {:>6} {:>4} {:>5} {:>4} ",
+            c.alpha, c.beta, c.L, c.sigma, n
+        );
+        for (k, _) in fractions(c) {
+            line += &format!(" {:>24}", fraction_cell(k, n));
+        }
         let st = standing(i).map_or(String::new(), |a| {
             format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
         });
-        print!(
-            "{:>6} {:>6} {:>4} {:>5} {:>4}  {:>24} {:>24} {:>24} {:>24} {:>24}  {:<12}{st}",
-            c.alpha,
-            c.beta,
-            c.L,
-            c.sigma,
-            n,
-            cells[0],
-            cells[1],
-            cells[2],
-            cells[3],
-            cells[4],
-            c.label().map_or("-", Label::as_str)
-        );
+        print!("{line}  {:<12}{st}", c.label().map_or("-", Label::as_str));
         if !c.others.is_empty() {
             print!("  {}", c.others);
         }
@@ -93,14 +78,17 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
     for name in &others {
         header += &format!("{name},");
     }
-    header += "n_train,n_walk,n_reversal,n_undetermined,n_unstable,n_breakup,n_collision_breakup,n";
-    for f in FRACTIONS {
+    for e in End::ALL {
+        header += &format!("{},", e.count_key());
+    }
+    header += "n";
+    for f in share_ends().map(End::name) {
         header += &format!(",f_{f},f_{f}_low,f_{f}_high");
     }
     header += ",free_speed,label";
     if standings.is_some() {
         header += ",standing,assessed_n";
-        for f in FRACTIONS {
+        for f in share_ends().map(End::name) {
             header += &format!(",{f}_lo,{f}_hi");
         }
         header += ",walk_minus_train_lo,walk_minus_train_hi";
@@ -112,17 +100,10 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
         for (_, v) in &c.others.0 {
             row += &format!("{v},");
         }
-        row += &format!(
-            "{},{},{},{},{},{},{},{}",
-            c.n_train,
-            c.n_walk,
-            c.n_reversal,
-            c.n_undetermined,
-            c.n_unstable,
-            c.n_breakup,
-            c.n_collision_breakup,
-            n
-        );
+        for (_, k) in c.tally.iter() {
+            row += &format!("{k},");
+        }
+        row += &n.to_string();
         for (k, _) in fractions(c) {
             // (Empty cells for a point with no replicate: no fraction to give.)
             row += &match n {
@@ -143,14 +124,10 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
         if let Some(a) = standing(i) {
             st = format!(",{},{}", a.standing.as_str(), a.n);
             let b = a.bounds.as_ref();
-            for pair in [
-                b.map(|b| b.train),
-                b.map(|b| b.walk_past),
-                b.map(|b| b.reversal),
-                b.map(|b| b.undetermined),
-                b.map(|b| b.collision_breakup),
-                b.map(|b| b.walk_minus_train),
-            ] {
+            let pairs = share_ends()
+                .map(|e| b.map(|b| b.ends[e]))
+                .chain([b.map(|b| b.walk_minus_train)]);
+            for pair in pairs {
                 st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
             }
         }
@@ -167,11 +144,11 @@ fn print_json(counts: &[Counts], standings: Option<&[Assessment]>) -> anyhow::Re
         .map(|(i, c)| {
             let n = c.total();
             let mut f = serde_json::Map::new();
-            for (k, name) in fractions(c) {
+            for (k, end) in fractions(c) {
                 let w = wilson(k, n);
                 // (JSON has no NaN: null for a point with no replicate.)
                 f.insert(
-                    name.into(),
+                    end.name().into(),
                     if n == 0 {
                         json!(null)
                     } else {
@@ -181,13 +158,13 @@ fn print_json(counts: &[Counts], standings: Option<&[Assessment]>) -> anyhow::Re
             }
             let mut row = json!({
                 "alpha": c.alpha, "beta": c.beta, "L": c.L, "sigma": c.sigma,
-                "n_train": c.n_train, "n_walk": c.n_walk, "n_reversal": c.n_reversal,
-                "n_undetermined": c.n_undetermined, "n_unstable": c.n_unstable,
-                "n_breakup": c.n_breakup, "n_collision_breakup": c.n_collision_breakup,
                 "n": n, "fractions": f,
                 "free_speed": c.free_speed,
                 "label": c.label().map(Label::as_str),
             });
+            for (e, k) in c.tally.iter() {
+                row[e.count_key()] = json!(k);
+            }
             // A sweep's other axes, each a key beside sigma's.
             for (name, v) in &c.others.0 {
                 row[name] = json!(v);

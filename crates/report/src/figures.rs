@@ -6,7 +6,7 @@ use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::speed::{speed_figure, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
-use cellsweep_stats::{wilson, Assessment, Counts, Fit, Label, Scales, Standing};
+use cellsweep_stats::{wilson, Assessment, Counts, End, Fit, Label, Scales, Standing};
 
 use crate::collection::DiagramKey;
 use crate::Results;
@@ -89,7 +89,7 @@ pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagra
                 alpha: c.alpha,
                 beta: c.beta,
                 mark: c.label().map(mark),
-                freq: [f(c.n_train), f(c.n_walk), f(c.n_reversal)],
+                freq: [f(c.n_train()), f(c.n_walk()), f(c.tally[End::Reversal])],
                 n: c.total(),
                 open: a.is_some_and(|a| a.standing == Standing::Open),
                 detail: detail(c, a),
@@ -193,24 +193,14 @@ pub fn speed_of(results: &Results) -> Figure {
 /// A point's tooltip: where it is, its counts, its label, and its adaptive standing.
 pub fn detail(c: &Counts, a: Option<&Assessment>) -> String {
     let mut out = format!(
-        "α = {}, β = {}, L = {}, σ = {}: n = {} (training {}, walk-past {}, reversal {}, \
-         undetermined {}",
+        "α = {}, β = {}, L = {}, σ = {}: n = {} ({}",
         c.alpha,
         c.beta,
         c.L,
         c.sigma,
         c.total(),
-        c.n_train,
-        c.n_walk,
-        c.n_reversal,
-        c.n_undetermined
+        c.tally.line(End::words, ", ")
     );
-    if c.n_collision_breakup > 0 {
-        out += &format!(", broke up in the collision {}", c.n_collision_breakup);
-    }
-    if c.n_unstable + c.n_breakup > 0 {
-        out += &format!(", unstable {}, breakup {}", c.n_unstable, c.n_breakup);
-    }
     out += ")";
     let collided = c.collisions();
     if collided > 0 {
@@ -220,9 +210,9 @@ pub fn detail(c: &Counts, a: Option<&Assessment>) -> String {
         };
         out += &format!(
             "; fractions with 95% Wilson intervals: training {}, walk-past {}, reversal {}",
-            f(c.n_train),
-            f(c.n_walk),
-            f(c.n_reversal)
+            f(c.n_train()),
+            f(c.n_walk()),
+            f(c.tally[End::Reversal])
         );
     }
     if let Some(label) = c.label() {
@@ -234,10 +224,10 @@ pub fn detail(c: &Counts, a: Option<&Assessment>) -> String {
             out += &format!(
                 "; bounds at the stated error: p_train [{:.2}, {:.2}], p_walk [{:.2}, {:.2}], \
                  p_walk - p_train [{:.2}, {:.2}]",
-                b.train[0],
-                b.train[1],
-                b.walk_past[0],
-                b.walk_past[1],
+                b.ends[End::Train][0],
+                b.ends[End::Train][1],
+                b.ends[End::WalkPast][0],
+                b.ends[End::WalkPast][1],
                 b.walk_minus_train[0],
                 b.walk_minus_train[1]
             );

@@ -8,7 +8,7 @@ use cellsweep_scheduler::export_file::{read_export, ExportFileError};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_stats::adaptive::{assess, kinds, PointEnds};
-use cellsweep_stats::{Axes, Counts, End, Label, Scales};
+use cellsweep_stats::{Axes, Counts, End, Label, PerEnd, Scales, Tally};
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::{Store, StoreError};
 
@@ -282,50 +282,43 @@ fn read_csv(path: &Path) -> Result<Vec<Counts>, LoadError> {
     Ok(out)
 }
 
-/// Where a counts file keeps each of its columns: the eight it must have, and the optional
-/// label, prep and breakup counts and free speed.
+/// Where a counts file keeps each of its columns: the axes and the paper's four outcomes it
+/// must have, the other ends' counts where it has them, and the optional label and free speed.
 struct CountsColumns {
-    required: [usize; 8],
+    axes: [usize; 4],
+    ends: PerEnd<Option<usize>>,
     label: Option<usize>,
-    unstable: Option<usize>,
-    breakup: Option<usize>,
-    collision_breakup: Option<usize>,
     free_speed: Option<usize>,
 }
 
 impl CountsColumns {
-    const REQUIRED: [&'static str; 8] = [
-        "alpha",
-        "beta",
-        "L",
-        "sigma",
-        "n_train",
-        "n_walk",
-        "n_reversal",
-        "n_undetermined",
-    ];
+    const AXES: [&'static str; 4] = ["alpha", "beta", "L", "sigma"];
 
     fn find(names: &[String], file: &str) -> Result<Self, LoadError> {
         let find = |name: &str| names.iter().position(|c| c == name);
-        let mut required = [0; 8];
-        for (slot, r) in required.iter_mut().zip(Self::REQUIRED) {
-            *slot = find(r).ok_or_else(|| {
-                LoadError::Invalid(format!("{file}: line 1: missing column {r:?}"))
-            })?;
+        let missing = |r: &str| LoadError::Invalid(format!("{file}: line 1: missing column {r:?}"));
+        let mut axes = [0; 4];
+        for (slot, r) in axes.iter_mut().zip(Self::AXES) {
+            *slot = find(r).ok_or_else(|| missing(r))?;
+        }
+        let mut ends = PerEnd::default();
+        for e in End::ALL {
+            ends[e] = find(e.count_key());
+            if ends[e].is_none() && e.always_shown() {
+                return Err(missing(e.count_key()));
+            }
         }
         Ok(CountsColumns {
-            required,
+            axes,
+            ends,
             label: find("label"),
-            unstable: find("n_unstable"),
-            breakup: find("n_breakup"),
-            collision_breakup: find("n_collision_breakup"),
             free_speed: find("free_speed"),
         })
     }
 
     /// One data row as a point's counts, every cell checked.
     fn counts(&self, row: &CsvRow) -> Result<Counts, LoadError> {
-        let idx = &self.required;
+        let idx = &self.axes;
         let l = row.number(idx[2], 0.0, 4096.0)?;
         if l.fract() != 0.0 {
             invalid!(
@@ -348,19 +341,27 @@ impl CountsColumns {
             L: l as u32,
             sigma: row.number(idx[3], 0.0, 1e6)?,
             others: Default::default(),
-            n_train: row.count(idx[4])?,
-            n_walk: row.count(idx[5])?,
-            n_reversal: row.count(idx[6])?,
-            n_undetermined: row.count(idx[7])?,
-            n_unstable: row.optional_count(self.unstable)?,
-            n_breakup: row.optional_count(self.breakup)?,
-            n_collision_breakup: row.optional_count(self.collision_breakup)?,
+            tally: self.tally(row)?,
             verdict,
             free_speed: self
                 .free_speed
                 .and_then(|c| row.cell(c).parse().ok())
                 .filter(|x: &f64| x.is_finite()),
         })
+    }
+}
+
+impl CountsColumns {
+    /// The row's count of each end (0 where the file has no column for it).
+    fn tally(&self, row: &CsvRow) -> Result<Tally, LoadError> {
+        let mut t = Tally::default();
+        for e in End::ALL {
+            t[e] = match (self.ends[e], e.always_shown()) {
+                (Some(c), true) => row.count(c)?,
+                (c, _) => row.optional_count(c)?,
+            };
+        }
+        Ok(t)
     }
 }
 

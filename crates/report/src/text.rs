@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{wilson, Counts, Label};
+use cellsweep_stats::{wilson, Counts, End, Label};
 use cellsweep_store::PointCounts;
 
 /// Sorted distinct values.
@@ -14,23 +14,14 @@ pub fn axis(values: impl Iterator<Item = f64>) -> Vec<f64> {
     v
 }
 
-pub const FRACTIONS: [&str; 5] = [
-    "train",
-    "walk_past",
-    "reversal",
-    "undetermined",
-    "collision_breakup",
-];
+/// The ends whose shares tables show: every collision outcome, in the order of [`End::ALL`].
+pub fn share_ends() -> impl Iterator<Item = End> {
+    End::ALL.into_iter().filter(|e| e.is_collision())
+}
 
-/// Each collision end's count, in the order of [`FRACTIONS`].
-pub fn fractions(c: &Counts) -> [(u64, &'static str); 5] {
-    [
-        (c.n_train, "train"),
-        (c.n_walk, "walk_past"),
-        (c.n_reversal, "reversal"),
-        (c.n_undetermined, "undetermined"),
-        (c.n_collision_breakup, "collision_breakup"),
-    ]
+/// Each collision end's count, in the order of [`share_ends`].
+pub fn fractions(c: &Counts) -> Vec<(u64, End)> {
+    share_ends().map(|e| (c.tally[e], e)).collect()
 }
 
 /// A fraction with its interval as a table cell; a point with no replicate has none.
@@ -99,40 +90,22 @@ pub const LEGEND: &str =
 pub fn point_counts_text(points: &[PointCounts], name: &str, version: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "outcome counts of {name:?} ({version}):");
-    let _ = writeln!(
-        s,
-        "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}",
-        "alpha",
-        "beta",
-        "L",
-        "sigma",
-        "train",
-        "walk",
-        "rev",
-        "undet",
-        "broke up",
-        "unstable",
-        "breakup",
-        "failed",
-        "free speed"
-    );
+    // One column per end, as wide as its name.
+    let width = |e: End| e.short().len().max(5);
+    let mut head = format!("  {:>6} {:>6} {:>4} {:>6} ", "alpha", "beta", "L", "sigma");
+    for e in End::ALL {
+        head += &format!(" {:>w$}", e.short(), w = width(e));
+    }
+    let _ = writeln!(s, "{head}  {:>6}  {:>10}", "failed", "free speed");
     for p in points {
-        let o = &p.outcomes;
         let pending = p.jobs.pending + p.jobs.running;
+        let mut line = format!("  {:>6} {:>6} {:>4} {:>6} ", p.alpha, p.beta, p.L, p.sigma);
+        for (e, n) in p.outcomes.iter() {
+            line += &format!(" {:>w$}", n, w = width(e));
+        }
         let _ = writeln!(
             s,
-            "  {:>6} {:>6} {:>4} {:>6}  {:>5} {:>5} {:>5} {:>5} {:>8}  {:>8} {:>7} {:>6}  {:>10}{}",
-            p.alpha,
-            p.beta,
-            p.L,
-            p.sigma,
-            o.train,
-            o.walk_past,
-            o.reversal,
-            o.undetermined,
-            o.collision_breakup,
-            o.unstable,
-            o.breakup,
+            "{line}  {:>6}  {:>10}{}",
             p.jobs.failed,
             p.free_speed.map_or("-".into(), |v| format!("{v:.3}")),
             if pending > 0 {
@@ -153,9 +126,9 @@ mod tests {
     fn point(alpha: f64, beta: f64, train: bool) -> Counts {
         let mut c = Counts::none(alpha, beta, 90, 5.0);
         if train {
-            c.n_train = 10;
+            c.tally[End::Train] = 10;
         } else {
-            c.n_walk = 10;
+            c.tally[End::WalkPast] = 10;
         }
         c
     }

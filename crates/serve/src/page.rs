@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 
 use cellsweep_report::html::{escape, utc_stamp};
 use cellsweep_stats::throughput::speed_line;
-use cellsweep_store::{OutcomeCounts, StateCounts};
+use cellsweep_stats::Tally;
+use cellsweep_store::StateCounts;
 
 use crate::snapshot::{Snapshot, SweepView};
 
@@ -180,22 +181,13 @@ fn jobs_table(h: &mut String, j: &StateCounts, preps_done: i64, preps_total: i64
     );
 }
 
-fn outcomes_line(h: &mut String, o: &OutcomeCounts) {
+fn outcomes_line(h: &mut String, o: &Tally) {
     let _ = write!(h, "<p>outcomes: ");
-    let parts = [
-        ("train", o.train),
-        ("walk_past", o.walk_past),
-        ("reversal", o.reversal),
-        ("undetermined", o.undetermined),
-        ("broke up", o.collision_breakup),
-        ("unstable", o.unstable),
-        ("breakup", o.breakup),
-    ];
-    let shown: Vec<String> = parts
+    let shown: Vec<String> = o
         .iter()
-        .map(|(k, n)| {
-            let field = k.replace(' ', "_");
-            format!("{k} <span data-field=\"{field}\">{n}</span>")
+        .map(|(e, n)| {
+            let (words, field) = (e.words(), e.name());
+            format!("{words} <span data-field=\"{field}\">{n}</span>")
         })
         .collect();
     let _ = writeln!(h, "{}</p>", shown.join(" · "));

@@ -39,7 +39,7 @@ use serde::{Deserialize, Serialize};
 use crate::axes::{Axes, ColumnKey, Others, PointKey};
 use crate::binomial::clopper_pearson;
 use crate::counts::{Counts, Label};
-use crate::end::End;
+use crate::end::{End, PerEnd};
 
 /// Dominance threshold, coexistence band and share (SPEC section 6).
 const DOMINANT: f64 = 0.55;
@@ -158,13 +158,9 @@ impl Standing {
 /// Simultaneous bounds of one look.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Bounds {
-    pub train: [f64; 2],
-    pub walk_past: [f64; 2],
-    pub reversal: [f64; 2],
-    pub undetermined: [f64; 2],
-    /// Collisions in which a cell broke up.
-    #[serde(default)]
-    pub collision_breakup: [f64; 2],
+    /// Each end's share (`train`, `walk_past`, ... in JSON).
+    #[serde(flatten)]
+    pub ends: PerEnd<[f64; 2]>,
     /// p_walk - p_train.
     pub walk_minus_train: [f64; 2],
 }
@@ -275,16 +271,8 @@ impl PointEnds {
             others: self.others.clone(),
             ..Counts::none(self.alpha, self.beta, self.L, self.sigma)
         };
-        for end in self.ends.iter().take(n as usize).flatten() {
-            *match end {
-                End::Train => &mut c.n_train,
-                End::WalkPast => &mut c.n_walk,
-                End::Reversal => &mut c.n_reversal,
-                End::Undetermined => &mut c.n_undetermined,
-                End::Unstable => &mut c.n_unstable,
-                End::Breakup => &mut c.n_breakup,
-                End::CollisionBreakup => &mut c.n_collision_breakup,
-            } += 1;
+        for &end in self.ends.iter().take(n as usize).flatten() {
+            c.tally.add(end, 1);
         }
         c
     }
@@ -316,51 +304,29 @@ impl Intervals {
 /// The bounds of one look at `c`, and what is certain in them.
 pub fn look(c: &Counts, iv: &mut Intervals) -> (Bounds, Option<Label>, Option<i8>) {
     let n = c.total();
+    let ends = PerEnd::from_fn(|e| iv.get(c.tally[e], n));
+    let (walk, train) = (ends[End::WalkPast], ends[End::Train]);
     let b = Bounds {
-        train: iv.get(c.n_train, n),
-        walk_past: iv.get(c.n_walk, n),
-        reversal: iv.get(c.n_reversal, n),
-        undetermined: iv.get(c.n_undetermined, n),
-        collision_breakup: iv.get(c.n_collision_breakup, n),
-        walk_minus_train: [
-            iv.get(c.n_walk, n)[0] - iv.get(c.n_train, n)[1],
-            iv.get(c.n_walk, n)[1] - iv.get(c.n_train, n)[0],
-        ],
+        ends,
+        walk_minus_train: [walk[0] - train[1], walk[1] - train[0]],
     };
-    let mut his = vec![
-        b.train[1],
-        b.walk_past[1],
-        b.reversal[1],
-        b.undetermined[1],
-        b.collision_breakup[1],
-    ];
-    let mut outcomes = vec![
-        (b.train, Label::Train),
-        (b.walk_past, Label::WalkPast),
-        (b.reversal, Label::Reversal),
-        (b.undetermined, Label::Undetermined),
-        (b.collision_breakup, Label::Breakup),
-    ];
-    // Replicates decided by a prep verdict (several preps per point) are outcomes too.
-    for (k, label) in [
-        (c.n_unstable, Label::Unstable),
-        (c.n_breakup, Label::Breakup),
-    ] {
-        if k > 0 {
-            let i = iv.get(k, n);
-            his.push(i[1]);
-            outcomes.push((i, label));
-        }
-    }
+    // Every collision outcome is a candidate; replicates decided by a prep verdict (several
+    // preps per point) only where there are some.
+    let candidates: Vec<([f64; 2], Label)> = c
+        .tally
+        .iter()
+        .filter(|&(e, k)| e.is_collision() || k > 0)
+        .map(|(e, _)| (b.ends[e], e.label()))
+        .collect();
     let [d_lo, d_hi] = b.walk_minus_train;
-    let label = if let Some((_, l)) = outcomes.iter().find(|(i, _)| i[0] >= DOMINANT) {
+    let label = if let Some((_, l)) = candidates.iter().find(|(i, _)| i[0] >= DOMINANT) {
         Some(*l)
-    } else if his.iter().all(|&h| h < DOMINANT) {
+    } else if candidates.iter().all(|(i, _)| i[1] < DOMINANT) {
         let inside = d_lo > -BAND && d_hi < BAND;
         let outside = d_lo >= BAND || d_hi <= -BAND;
-        if inside && b.walk_past[0] + b.train[0] >= TOGETHER {
+        if inside && walk[0] + train[0] >= TOGETHER {
             Some(Label::Coexist)
-        } else if outside || b.walk_past[1] + b.train[1] < TOGETHER {
+        } else if outside || walk[1] + train[1] < TOGETHER {
             Some(Label::Mixed)
         } else {
             None
@@ -428,7 +394,7 @@ fn assess_point(p: &PointEnds, rule: &AdaptiveRule, iv: &mut Intervals) -> Asses
         };
     }
     let c = p.counts(n);
-    let verdict_only = c.n_unstable + c.n_breakup == c.total();
+    let verdict_only = c.tally.collisions() == 0;
     if verdict_only {
         return Assessment {
             n,

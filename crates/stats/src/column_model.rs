@@ -37,7 +37,7 @@ const GRID: usize = 800;
 
 /// One point of a column: its beta and its walk-past and training counts.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tally {
+pub struct WalkTrain {
     pub beta: f64,
     pub walk: u64,
     pub train: u64,
@@ -100,7 +100,7 @@ fn sigmoid(z: f64) -> f64 {
 }
 
 /// The binomial log-likelihood sum_i w_i ln p_i + t_i ln (1 - p_i), p_i = sigma(k (beta_i - c)).
-fn log_lik(points: &[Tally], k: f64, c: f64) -> f64 {
+fn log_lik(points: &[WalkTrain], k: f64, c: f64) -> f64 {
     points
         .iter()
         .map(|p| {
@@ -114,7 +114,7 @@ fn log_lik(points: &[Tally], k: f64, c: f64) -> f64 {
 /// log-likelihood is concave in k, so its derivative
 ///   g(k) = sum_i (beta_i - c) (w_i - m_i sigma(k (beta_i - c)))
 /// falls through zero once at most: bisected.
-fn profile_at(points: &[Tally], c: f64) -> (f64, f64) {
+fn profile_at(points: &[WalkTrain], c: f64) -> (f64, f64) {
     let g = |k: f64| -> f64 {
         points
             .iter()
@@ -144,7 +144,7 @@ fn profile_at(points: &[Tally], c: f64) -> (f64, f64) {
 }
 
 /// The saturated log-likelihood (each point its own fraction): the deviance's reference.
-fn saturated(points: &[Tally]) -> f64 {
+fn saturated(points: &[WalkTrain]) -> f64 {
     let term = |k: u64, m: u64| {
         if k == 0 {
             0.0
@@ -159,7 +159,7 @@ fn saturated(points: &[Tally]) -> f64 {
 }
 
 /// The best constant fraction's log-likelihood: the model without a rise.
-fn flat(points: &[Tally]) -> f64 {
+fn flat(points: &[WalkTrain]) -> f64 {
     let (w, t): (u64, u64) = points
         .iter()
         .fold((0, 0), |(w, t), p| (w + p.walk, t + p.train));
@@ -177,22 +177,22 @@ fn flat(points: &[Tally]) -> f64 {
 /// Where a column that rises through one half significantly falls back to training: the beta
 /// from which the model leaves its points out, or None for a column that crosses at most once
 /// (one point below one half among dozens near a refined crossing is noise, not a fall-back).
-pub fn falls_back(tallies: &[Tally]) -> Option<f64> {
+pub fn falls_back(tallies: &[WalkTrain]) -> Option<f64> {
     modelled(tallies).1
 }
 
 /// The points the model sees, in beta order: those with walk-past or training, and only up to
 /// the last point of the first walk-past stretch when the column significantly falls back to
 /// training after it (then also the beta from which points were left out).
-fn modelled(tallies: &[Tally]) -> (Vec<Tally>, Option<f64>) {
-    let mut pts: Vec<Tally> = tallies
+fn modelled(tallies: &[WalkTrain]) -> (Vec<WalkTrain>, Option<f64>) {
+    let mut pts: Vec<WalkTrain> = tallies
         .iter()
         .copied()
         .filter(|t| t.walk + t.train > 0)
         .collect();
     pts.sort_by(|a, b| a.beta.total_cmp(&b.beta));
-    let walk_wins = |p: &Tally| wilson(p.walk, p.walk + p.train).low > 0.5;
-    let train_wins = |p: &Tally| wilson(p.walk, p.walk + p.train).high < 0.5;
+    let walk_wins = |p: &WalkTrain| wilson(p.walk, p.walk + p.train).low > 0.5;
+    let train_wins = |p: &WalkTrain| wilson(p.walk, p.walk + p.train).high < 0.5;
     let Some(first_walk) = pts.iter().position(walk_wins) else {
         return (pts, None);
     };
@@ -226,7 +226,7 @@ struct Profile {
 }
 
 impl Profile {
-    fn over(pts: &[Tally], lo: f64, hi: f64) -> Profile {
+    fn over(pts: &[WalkTrain], lo: f64, hi: f64) -> Profile {
         let mut p = Profile {
             lo,
             hi,
@@ -243,7 +243,7 @@ impl Profile {
 
     /// The maximum (c, l): the grid's best refined by golden section, or the middle of a flat
     /// top.
-    fn maximum(&self, pts: &[Tally]) -> (f64, f64) {
+    fn maximum(&self, pts: &[WalkTrain]) -> (f64, f64) {
         let top = self
             .values
             .iter()
@@ -283,7 +283,7 @@ impl Profile {
     /// bisected; refused where it reaches the first or last sampled beta.
     fn interval(
         &self,
-        pts: &[Tally],
+        pts: &[WalkTrain],
         l_hat: f64,
         threshold: f64,
     ) -> Result<[f64; 2], NoModelCrossing> {
@@ -324,7 +324,7 @@ impl Profile {
 }
 
 /// The column's model, or why it gives no crossing.
-pub fn fit_column(tallies: &[Tally]) -> Result<ColumnModel, NoModelCrossing> {
+pub fn fit_column(tallies: &[WalkTrain]) -> Result<ColumnModel, NoModelCrossing> {
     let (pts, cut_at) = modelled(tallies);
     if pts.len() < 3 {
         return Err(NoModelCrossing::TooFew(pts.len()));
@@ -371,14 +371,14 @@ pub fn fit_column(tallies: &[Tally]) -> Result<ColumnModel, NoModelCrossing> {
 mod tests {
     use super::*;
 
-    fn tally(beta: f64, walk: u64, train: u64) -> Tally {
-        Tally { beta, walk, train }
+    fn tally(beta: f64, walk: u64, train: u64) -> WalkTrain {
+        WalkTrain { beta, walk, train }
     }
 
     #[test]
     fn a_symmetric_column_crosses_in_its_middle() {
         // Fractions 0.1, 0.3, 0.5, 0.7, 0.9 at beta 10..26: the crossing is at 18 by symmetry.
-        let col: Vec<Tally> = [(10.0, 10), (14.0, 30), (18.0, 50), (22.0, 70), (26.0, 90)]
+        let col: Vec<WalkTrain> = [(10.0, 10), (14.0, 30), (18.0, 50), (22.0, 70), (26.0, 90)]
             .iter()
             .map(|&(b, w)| tally(b, w, 100 - w))
             .collect();
@@ -433,7 +433,7 @@ mod tests {
     fn one_point_below_one_half_among_many_at_the_crossing_is_not_a_second_crossing() {
         // L = 90, sigma = 5, alpha = 0.18 as refined: 62/96 at 40.0, then 19/56 at 40.15625,
         // and walk-past winning beyond.
-        let col: Vec<Tally> = [
+        let col: Vec<WalkTrain> = [
             (30.0, 5, 27),
             (34.0, 21, 67),
             (39.5, 42, 54),
@@ -454,7 +454,7 @@ mod tests {
 
     #[test]
     fn a_second_crossing_is_cut_off() {
-        let col: Vec<Tally> = [
+        let col: Vec<WalkTrain> = [
             (10.0, 5),
             (14.0, 30),
             (18.0, 70),

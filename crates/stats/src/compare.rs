@@ -16,10 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::axes::{Axes, PointKey};
 use crate::counts::{Counts, Label};
-use crate::end::{End, Replicate};
-
-/// Counts of each [`End`], in the order of [`End::ALL`].
-pub type EndCounts = [u64; End::ALL.len()];
+use crate::end::{End, PerEnd, Replicate, Tally};
 
 /// One grid point in both result sets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -29,8 +26,8 @@ pub struct PointComparison {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
-    pub counts_a: EndCounts,
-    pub counts_b: EndCounts,
+    pub counts_a: Tally,
+    pub counts_b: Tally,
     /// The point's label (SPEC section 6) in each set.
     pub label_a: Option<Label>,
     pub label_b: Option<Label>,
@@ -135,28 +132,22 @@ pub fn compare(a: &[Replicate], b: &[Replicate]) -> Comparison {
     }
 }
 
-fn counts_of(rs: &[&Replicate]) -> EndCounts {
-    let mut c = [0; 7];
+fn counts_of(rs: &[&Replicate]) -> Tally {
+    let mut c = Tally::default();
     for r in rs {
-        c[r.end.index()] += 1;
+        c.add(r.end, 1);
     }
     c
 }
 
-fn label_of(c: &EndCounts, first: &Replicate) -> Option<Label> {
+fn label_of(c: &Tally, first: &Replicate) -> Option<Label> {
     Counts {
         alpha: first.alpha,
         beta: first.beta,
         L: first.L,
         sigma: first.sigma,
         others: first.others.clone(),
-        n_train: c[0],
-        n_walk: c[1],
-        n_reversal: c[2],
-        n_undetermined: c[3],
-        n_unstable: c[4],
-        n_breakup: c[5],
-        n_collision_breakup: c[6],
+        tally: *c,
         verdict: None,
         free_speed: None,
     }
@@ -224,14 +215,14 @@ fn l1_distance(points: &[Vec<(End, End)>], swapped: impl Fn(usize) -> bool) -> u
     let mut stat = 0;
     let mut i = 0;
     for pairs in points {
-        let mut diff = [0i64; End::ALL.len()];
+        let mut diff = PerEnd::<i64>::default();
         for &(x, y) in pairs {
             let (x, y) = if swapped(i) { (y, x) } else { (x, y) };
-            diff[x.index()] += 1;
-            diff[y.index()] -= 1;
+            diff[x] += 1;
+            diff[y] -= 1;
             i += 1;
         }
-        stat += diff.iter().map(|d| d.unsigned_abs()).sum::<u64>();
+        stat += diff.iter().map(|(_, d)| d.unsigned_abs()).sum::<u64>();
     }
     stat
 }
@@ -263,11 +254,11 @@ pub fn symmetry_test(points: &[Vec<(End, End)>]) -> f64 {
 
 /// Pearson's chi-square statistic of the 2 x K table (outcomes with no replicate on either
 /// side left out).
-fn chi_square(a: &EndCounts, b: &EndCounts) -> f64 {
-    let (na, nb) = (a.iter().sum::<u64>() as f64, b.iter().sum::<u64>() as f64);
+fn chi_square(a: &Tally, b: &Tally) -> f64 {
+    let (na, nb) = (a.total() as f64, b.total() as f64);
     let n = na + nb;
     let mut x2 = 0.0;
-    for c in 0..End::ALL.len() {
+    for c in End::ALL {
         let col = (a[c] + b[c]) as f64;
         if col == 0.0 {
             continue;
@@ -283,14 +274,14 @@ fn chi_square(a: &EndCounts, b: &EndCounts) -> f64 {
 /// Permutation test for two independent samples of one point: the share of `DRAWS` seeded
 /// random relabellings of the pooled replicates (sides keeping their sizes) whose chi-square
 /// statistic reaches the observed one.
-pub fn permutation_test(a: &EndCounts, b: &EndCounts) -> f64 {
-    let na = a.iter().sum::<u64>() as usize;
+pub fn permutation_test(a: &Tally, b: &Tally) -> f64 {
+    let na = a.total() as usize;
     let observed = chi_square(a, b);
-    if observed == 0.0 || na == 0 || b.iter().sum::<u64>() == 0 {
+    if observed == 0.0 || na == 0 || b.total() == 0 {
         return 1.0;
     }
-    let mut pool: Vec<usize> = Vec::new();
-    for c in 0..End::ALL.len() {
+    let mut pool: Vec<End> = Vec::new();
+    for c in End::ALL {
         pool.extend(std::iter::repeat_n(c, (a[c] + b[c]) as usize));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(0);
@@ -301,8 +292,8 @@ pub fn permutation_test(a: &EndCounts, b: &EndCounts) -> f64 {
             let j = rng.random_range(i..pool.len());
             pool.swap(i, j);
         }
-        let mut pa = [0u64; End::ALL.len()];
-        let mut pb = [0u64; End::ALL.len()];
+        let mut pa = Tally::default();
+        let mut pb = Tally::default();
         for (i, &c) in pool.iter().enumerate() {
             if i < na {
                 pa[c] += 1;
@@ -342,10 +333,10 @@ mod tests {
     fn the_permutation_test_counts_every_end_collision_breakups_included() {
         // Side a all broke up in the collision, side b all trained: the two differ as much as
         // two samples can (it panicked when the pool left out the seventh kind of end).
-        let mut a = [0u64; End::ALL.len()];
-        let mut b = [0u64; End::ALL.len()];
-        a[End::CollisionBreakup.index()] = 16;
-        b[End::Train.index()] = 16;
+        let mut a = Tally::default();
+        let mut b = Tally::default();
+        a[End::CollisionBreakup] = 16;
+        b[End::Train] = 16;
         let p = permutation_test(&a, &b);
         assert!(p < 0.001, "{p}");
         assert!(chi_square(&a, &b) > 30.0);
@@ -391,13 +382,16 @@ mod tests {
 
     #[test]
     fn independent_samples_tell_equal_from_different_counts() {
-        let same = permutation_test(&[8, 8, 0, 0, 0, 0, 0], &[8, 8, 0, 0, 0, 0, 0]);
+        let same = permutation_test(&[8, 8, 0, 0, 0, 0, 0].into(), &[8, 8, 0, 0, 0, 0, 0].into());
         assert_eq!(same, 1.0);
-        let close = permutation_test(&[8, 8, 0, 0, 0, 0, 0], &[9, 7, 0, 0, 0, 0, 0]);
+        let close = permutation_test(&[8, 8, 0, 0, 0, 0, 0].into(), &[9, 7, 0, 0, 0, 0, 0].into());
         assert!(close > 0.5, "{close}");
         // 16/0 against 0/16: Fisher's exact two-sided p = 2 / C(32, 16) ~ 1.7e-9, far below
         // what the draws resolve: the smallest value they give.
-        let apart = permutation_test(&[16, 0, 0, 0, 0, 0, 0], &[0, 16, 0, 0, 0, 0, 0]);
+        let apart = permutation_test(
+            &[16, 0, 0, 0, 0, 0, 0].into(),
+            &[0, 16, 0, 0, 0, 0, 0].into(),
+        );
         assert_eq!(apart, 1.0 / (1 + DRAWS) as f64);
     }
 
@@ -424,8 +418,8 @@ mod tests {
         let p10 = &c.points[0];
         assert_eq!((p10.beta, p10.matched, p10.alike), (10.0, 3, 2));
         assert_eq!(p10.test, Test::Paired);
-        assert_eq!(p10.counts_a, [2, 1, 0, 0, 0, 0, 0]);
-        assert_eq!(p10.counts_b, [3, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(p10.counts_a, [2, 1, 0, 0, 0, 0, 0].into());
+        assert_eq!(p10.counts_b, [3, 0, 0, 0, 0, 0, 0].into());
         assert_eq!(p10.decision_shift_mean, Some(0.75));
         assert_eq!(p10.decision_shift_max, Some(1.0));
         assert_eq!(p10.p_value, 1.0, "one discordant pair can go either way");

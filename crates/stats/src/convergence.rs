@@ -141,6 +141,7 @@ fn side(counts: &[Counts], c: &Column) -> Side {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::end::End;
     use rand::{Rng, SeedableRng};
 
     /// A column (L 90, sigma 5, alpha 0.10) with its crossing at `star` and logistic scale 1.5,
@@ -152,8 +153,9 @@ mod tests {
                 let p = 1.0 / (1.0 + (-(beta - star) / 1.5).exp());
                 let walk = (0..n).filter(|_| rng.random::<f64>() < p).count() as u64;
                 Counts {
-                    n_walk: walk,
-                    n_train: n - walk,
+                    tally: [(End::WalkPast, walk), (End::Train, n - walk)]
+                        .into_iter()
+                        .collect(),
                     ..Counts::none(0.10, beta, 90, 5.0)
                 }
             })

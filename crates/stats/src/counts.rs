@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::axes::{Axes, ColumnKey, Others};
 use crate::distributions::Z95;
+use crate::end::{End, Tally};
 
 /// The label of a grid point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -80,18 +81,9 @@ pub struct Counts {
     /// The sweep's other axes at this point (empty for the paper's four).
     #[serde(default, skip_serializing_if = "Others::is_empty")]
     pub others: Others,
-    pub n_train: u64,
-    pub n_walk: u64,
-    pub n_reversal: u64,
-    pub n_undetermined: u64,
-    /// Replicates decided by an `unstable` prep (no collision).
-    pub n_unstable: u64,
-    /// Replicates decided by a `breakup` prep (no collision).
-    pub n_breakup: u64,
-    /// Collisions in which a cell broke up (SPEC section 5): collisions, counted in every
-    /// share, but neither training, walk-past nor reversal.
-    #[serde(default)]
-    pub n_collision_breakup: u64,
+    /// How many of its replicates ended each way (`n_train`, `n_walk`, ... in files and JSON).
+    #[serde(flatten, with = "crate::end::count_keys")]
+    pub tally: Tally,
     /// A prep verdict given for the whole point (counts files), overriding the counts.
     pub verdict: Option<Label>,
     /// Mean free speed of the point's prepped cells, where known.
@@ -109,13 +101,7 @@ impl Counts {
             L,
             sigma,
             others: Others::default(),
-            n_train: 0,
-            n_walk: 0,
-            n_reversal: 0,
-            n_undetermined: 0,
-            n_unstable: 0,
-            n_breakup: 0,
-            n_collision_breakup: 0,
+            tally: Tally::default(),
             verdict: None,
             free_speed: None,
         }
@@ -139,16 +125,22 @@ impl Counts {
 
     /// All replicates with a result.
     pub fn total(&self) -> u64 {
-        self.collisions() + self.n_unstable + self.n_breakup
+        self.tally.total()
     }
 
     /// Replicates whose collision ran, whatever it ended in: the base of every share.
     pub fn collisions(&self) -> u64 {
-        self.n_train
-            + self.n_walk
-            + self.n_reversal
-            + self.n_undetermined
-            + self.n_collision_breakup
+        self.tally.collisions()
+    }
+
+    /// Replicates that walked past.
+    pub fn n_walk(&self) -> u64 {
+        self.tally[End::WalkPast]
+    }
+
+    /// Replicates that trained.
+    pub fn n_train(&self) -> u64 {
+        self.tally[End::Train]
     }
 
     /// The label by SPEC section 6: a prep verdict carries the point; an outcome in at least
@@ -164,22 +156,14 @@ impl Counts {
             return None;
         }
         let dominant = |k: u64| k * 100 >= 55 * n;
-        for (k, label) in [
-            (self.n_unstable, Label::Unstable),
-            (self.n_breakup, Label::Breakup),
-            (self.n_collision_breakup, Label::Breakup),
-            (self.n_train, Label::Train),
-            (self.n_walk, Label::WalkPast),
-            (self.n_reversal, Label::Reversal),
-            (self.n_undetermined, Label::Undetermined),
-        ] {
-            if dominant(k) {
-                return Some(label);
-            }
+        // No two ends can both reach 55%, so the order of the look does not matter.
+        if let Some((e, _)) = self.tally.iter().find(|&(_, k)| dominant(k)) {
+            return Some(e.label());
         }
         // Coexistence: close in number and together at least half of the replicates (SPEC: the
         // paper's "significant presence of both").
-        if self.n_walk.abs_diff(self.n_train) * 10 < n && (self.n_walk + self.n_train) * 2 >= n {
+        let (walk, train) = (self.n_walk(), self.n_train());
+        if walk.abs_diff(train) * 10 < n && (walk + train) * 2 >= n {
             return Some(Label::Coexist);
         }
         Some(Label::Mixed)
@@ -188,7 +172,7 @@ impl Counts {
     /// Whether the point has collisions to use (no prep verdict).
     pub fn collided(&self) -> bool {
         !matches!(self.verdict, Some(Label::Unstable | Label::Breakup))
-            && self.n_unstable + self.n_breakup == 0
+            && self.tally.by_prep() == 0
             && self.total() > 0
     }
 }

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use crate::axes::{ColumnKey, Others};
-use crate::column_model::{fit_column, ColumnModel, Tally};
+use crate::column_model::{fit_column, ColumnModel, WalkTrain};
 use crate::counts::Counts;
 use crate::interpolation::{crossing, least_squares, resample_diffs};
 use crate::model_line::{line_from_columns, Crossing};
@@ -233,14 +233,14 @@ pub(crate) fn points_of(cols: &[Column]) -> Vec<(f64, f64)> {
 }
 
 /// The walk-past and training counts of each collided point of column `c`.
-pub(crate) fn tallies(counts: &[Counts], c: &Column) -> Vec<Tally> {
+pub(crate) fn tallies(counts: &[Counts], c: &Column) -> Vec<WalkTrain> {
     counts
         .iter()
         .filter(|p| p.column() == c.key() && p.collided())
-        .map(|p| Tally {
+        .map(|p| WalkTrain {
             beta: p.beta,
-            walk: p.n_walk,
-            train: p.n_train,
+            walk: p.n_walk(),
+            train: p.n_train(),
         })
         .collect()
 }
@@ -254,7 +254,7 @@ pub(crate) fn read_columns(
     seed: u64,
     method: Method,
 ) -> (Vec<Column>, Vec<f64>, Vec<f64>) {
-    let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
+    let observed = |i: usize| counts[i].n_walk() as i64 - counts[i].n_train() as i64;
     let mut cols = columns(counts, scales, &observed);
     // Bootstrap: redraw every point's replicates from its observed outcome frequencies.
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

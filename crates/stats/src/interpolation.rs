@@ -84,7 +84,7 @@ pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64
             if n == 0 {
                 return 0;
             }
-            let (pt, pw) = (c.n_train as f64 / n as f64, c.n_walk as f64 / n as f64);
+            let (pt, pw) = (c.n_train() as f64 / n as f64, c.n_walk() as f64 / n as f64);
             if n > EXACT_RESAMPLE_MAX {
                 // d = sum of n draws of +1 (pw), -1 (pt), 0: mean n (pw - pt),
                 // variance n (pw + pt - (pw - pt)^2), clamped to [-n, n].
@@ -110,12 +110,19 @@ pub(crate) fn resample_diffs(counts: &[Counts], rng: &mut ChaCha8Rng) -> Vec<i64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::end::End;
     use rand::SeedableRng;
 
     /// A point of `n` collisions, `w` walk-pasts and `t` trainings.
     fn point(n: u64, w: u64, t: u64) -> Counts {
         let mut c = Counts::none(0.1, 10.0, 90, 5.0);
-        (c.n_walk, c.n_train, c.n_reversal) = (w, t, n - w - t);
+        c.tally = [
+            (End::WalkPast, w),
+            (End::Train, t),
+            (End::Reversal, n - w - t),
+        ]
+        .into_iter()
+        .collect();
         c
     }
 

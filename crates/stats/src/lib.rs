@@ -2,13 +2,14 @@
 //!
 //! The statistics of cellsweep's phase diagrams, apart from where the data is kept: this crate
 //! knows nothing of SQLite or files. Data comes in as finished replicates ([`Replicate`], each
-//! with its [`End`]) or as counts per point ([`Counts`]) and goes out as:
+//! with its [`End`]) or as counts per point ([`Counts`], whose [`Tally`] counts each end) and
+//! goes out as:
 //! - a point's [`Label`] (SPEC section 6) with Wilson and Clopper-Pearson intervals
 //!   ([`wilson`], [`clopper_pearson`]);
 //! - where each point stands under an adaptive rule ([`assess`] on [`PointEnds`] gives an
 //!   [`Assessment`]: open, settled or at its budget, and the next round);
 //! - beta* of one column from a logistic model of the whole column ([`fit_column`] on
-//!   [`Tally`]s gives a [`ColumnModel`] with its profile-likelihood interval, or why none);
+//!   [`WalkTrain`]s gives a [`ColumnModel`] with its profile-likelihood interval, or why none);
 //! - the transition line beta_crit = a alpha~/L~ + b over the diagrams' columns ([`fit_line`]
 //!   gives a [`Fit`], its columns read by [`Method::Model`] or the paper's
 //!   [`Method::Interpolate`], the latter in [`interpolation`]); the line through columns
@@ -47,12 +48,12 @@ pub mod throughput;
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use axes::{Axes, ColumnKey, Others, PointKey};
 pub use binomial::clopper_pearson;
-pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, Tally};
+pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, WalkTrain};
 pub use column_shift::{column_shifts, ColumnShift, ColumnShifts};
-pub use compare::{compare, Comparison, EndCounts, PointComparison, Test};
+pub use compare::{compare, Comparison, PointComparison, Test};
 pub use convergence::{compare_columns, ColumnChange, Side, Verdict};
 pub use counts::{wilson, Counts, Fraction, Label};
-pub use end::{End, Replicate};
+pub use end::{End, PerEnd, Replicate, Tally};
 pub use fit::{fit_columns, fit_line, Column, Fit, Method, NoFit, Scales};
 pub use interpolation::NoCrossing;
 pub use refine::{ColumnNeed, RefineRule};

@@ -164,7 +164,7 @@ pub fn plan_round(
             let present: Vec<f64> = column.iter().map(|p| p.beta).collect();
             let sampled: Vec<f64> = column
                 .iter()
-                .filter(|p| p.n_walk + p.n_train > 0)
+                .filter(|p| p.n_walk() + p.n_train() > 0)
                 .map(|p| p.beta)
                 .collect();
             let model = fit_column(&tallies(counts, &c));
@@ -189,6 +189,7 @@ fn snap(v: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::end::End;
 
     fn model(star: f64, lo: f64, hi: f64) -> Result<ColumnModel, NoModelCrossing> {
         Ok(ColumnModel {
@@ -293,8 +294,9 @@ mod tests {
         // Walk-past rises through one half between beta = 18 and 22 at alpha = 0.1; alpha = 0.2
         // trains everywhere.
         let point = |alpha: f64, beta: f64, walk: u64| Counts {
-            n_walk: walk,
-            n_train: 96 - walk,
+            tally: [(End::WalkPast, walk), (End::Train, 96 - walk)]
+                .into_iter()
+                .collect(),
             ..Counts::none(alpha, beta, 90, 5.0)
         };
         let mut counts = Vec::new();

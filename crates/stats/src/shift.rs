@@ -109,7 +109,7 @@ pub fn measure_shift(
     let unweighted = |c: &Column| c.beta_star.map(|_| 1.0);
     let (cols, weight): (Vec<Column>, &Weight<'_>) = match method {
         Method::Interpolate => {
-            let observed = |i: usize| counts[i].n_walk as i64 - counts[i].n_train as i64;
+            let observed = |i: usize| counts[i].n_walk() as i64 - counts[i].n_train() as i64;
             (columns(&counts, scales, &observed), &unweighted)
         }
         Method::Model => (
@@ -194,6 +194,7 @@ fn model_scatter(cols: &[Column], scales: &Scales, (a, b, delta): (f64, f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::end::End;
 
     /// A column of points at (L, sigma, alpha) whose n_walk - n_train crosses zero exactly at
     /// `star` (linear interpolation between beta = star -2 and star + 2).
@@ -202,8 +203,12 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(k, &beta)| Counts {
-                n_train: if k == 0 { 10 } else { 0 },
-                n_walk: if k == 0 { 0 } else { 10 },
+                tally: [
+                    (End::Train, if k == 0 { 10 } else { 0 }),
+                    (End::WalkPast, if k == 0 { 0 } else { 10 }),
+                ]
+                .into_iter()
+                .collect(),
                 ..Counts::none(alpha, beta, l, sigma)
             })
             .collect()
@@ -242,8 +247,9 @@ mod tests {
                 let beta = star.round() + i as f64;
                 let w = (200.0 / (1.0 + (-0.5 * (beta - star)).exp())).round() as u64;
                 Counts {
-                    n_train: 200 - w,
-                    n_walk: w,
+                    tally: [(End::Train, 200 - w), (End::WalkPast, w)]
+                        .into_iter()
+                        .collect(),
                     ..Counts::none(alpha, beta, l, sigma)
                 }
             })

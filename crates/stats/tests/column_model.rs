@@ -7,7 +7,7 @@
 //! columns fit slopes k = 0.13 to 0.77 per unit beta (a rise from 0.1 to 0.9 over 6 to 34 in beta); the
 //! adaptive rule spends up to 96 replicates near the crossing and 16 to 40 far from it.
 
-use cellsweep_stats::{fit_column, NoModelCrossing, Tally};
+use cellsweep_stats::{fit_column, NoModelCrossing, WalkTrain};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -26,7 +26,7 @@ fn binomial(rng: &mut ChaCha8Rng, n: u64, p: f64) -> u64 {
 /// A column drawn from the walk-past fraction `p(beta)`: replicates as the adaptive rule
 /// spends them (96 where the fraction is between 0.15 and 0.85, else 16 to 40), of which 5%
 /// end neither in walk-past nor training (reversal, undetermined).
-fn draw(rng: &mut ChaCha8Rng, p: &dyn Fn(f64) -> f64) -> Vec<Tally> {
+fn draw(rng: &mut ChaCha8Rng, p: &dyn Fn(f64) -> f64) -> Vec<WalkTrain> {
     ROWS.iter()
         .map(|&beta| {
             let q = p(beta);
@@ -37,7 +37,7 @@ fn draw(rng: &mut ChaCha8Rng, p: &dyn Fn(f64) -> f64) -> Vec<Tally> {
             };
             let m = binomial(rng, n, 0.95);
             let walk = binomial(rng, m, q);
-            Tally {
+            WalkTrain {
                 beta,
                 walk,
                 train: m - walk,
@@ -65,7 +65,7 @@ impl Score {
         }
     }
 
-    fn add(&mut self, col: &[Tally], truth: f64) {
+    fn add(&mut self, col: &[WalkTrain], truth: f64) {
         self.columns += 1;
         if let Ok(m) = fit_column(col) {
             self.given += 1;

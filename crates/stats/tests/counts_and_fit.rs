@@ -1,15 +1,28 @@
 //! Labels at their edges, Wilson intervals, and the beta_crit fit on synthetic counts.
 
-use cellsweep_stats::{fit_columns, fit_line, wilson, Counts, Label, Method, Others, Scales};
+use cellsweep_stats::{
+    fit_columns, fit_line, wilson, Counts, End, Label, Method, Others, Scales, Tally,
+};
 
 fn counts(n_train: u64, n_walk: u64, n_reversal: u64, n_undetermined: u64) -> Counts {
     Counts {
-        n_train,
-        n_walk,
-        n_reversal,
-        n_undetermined,
+        tally: [
+            (End::Train, n_train),
+            (End::WalkPast, n_walk),
+            (End::Reversal, n_reversal),
+            (End::Undetermined, n_undetermined),
+        ]
+        .into_iter()
+        .collect(),
         ..Counts::none(0.1, 10.0, 90, 5.0)
     }
+}
+
+/// walk walk-past and train training replicates, nothing else.
+fn walk_train(walk: u64, train: u64) -> Tally {
+    [(End::WalkPast, walk), (End::Train, train)]
+        .into_iter()
+        .collect()
 }
 
 #[test]
@@ -45,11 +58,11 @@ fn coexistence_needs_walk_past_and_training_in_half_the_replicates() {
 #[test]
 fn prep_verdicts_carry_the_point() {
     let mut c = counts(0, 0, 0, 0);
-    c.n_unstable = 96;
+    c.tally[End::Unstable] = 96;
     assert_eq!(c.label(), Some(Label::Unstable));
     assert!(!c.collided());
     let mut c = counts(0, 0, 0, 0);
-    c.n_breakup = 96;
+    c.tally[End::Breakup] = 96;
     assert_eq!(c.label(), Some(Label::Breakup));
     // A verdict given by a counts file wins over counts.
     let mut c = counts(96, 0, 0, 0);
@@ -89,8 +102,7 @@ fn synthetic(a: f64, b: f64) -> Vec<Counts> {
                     alpha,
                     beta,
                     L: l,
-                    n_walk,
-                    n_train: 96 - n_walk,
+                    tally: walk_train(n_walk, 96 - n_walk),
                     ..counts(0, 0, 0, 0)
                 });
             }
@@ -198,8 +210,7 @@ fn synthetic_r0_32(a: f64, b: f64) -> Vec<Counts> {
                 alpha,
                 beta,
                 L: 72,
-                n_walk,
-                n_train: 96 - n_walk,
+                tally: walk_train(n_walk, 96 - n_walk),
                 others: Others(vec![("R0".into(), 32.0)]),
                 ..counts(0, 0, 0, 0)
             });

@@ -7,7 +7,7 @@ use rusqlite::params;
 use rusqlite::OptionalExtension;
 use serde::{Deserialize, Serialize};
 
-use cellsweep_stats::{Axes, Others};
+use cellsweep_stats::{Axes, End, Others};
 
 use crate::database::Store;
 use crate::digest::fnv1a;
@@ -62,8 +62,6 @@ pub struct ExportRow {
     pub breakup_reason: Option<String>,
 }
 
-/// Outcomes a collision can end in, as stored.
-pub const OUTCOMES: [&str; 5] = ["train", "walk_past", "reversal", "undetermined", "breakup"];
 /// Prep verdicts, as stored.
 pub const VERDICTS: [&str; 3] = ["ok", "unstable", "breakup"];
 /// A cell's fiber attachment after its collision, as stored.
@@ -84,10 +82,10 @@ impl ExportRow {
         }
         let collided = self.verdict == "ok";
         match self.outcome.as_deref() {
-            Some(o) if !OUTCOMES.contains(&o) => bad(
+            Some(o) if End::of_outcome(o).is_none() => bad(
                 "outcome",
                 &o,
-                "not one of train, walk_past, reversal, undetermined, breakup",
+                &format!("not one of {}", End::stored_outcomes()),
             ),
             None if collided => bad(
                 "outcome",
@@ -111,10 +109,11 @@ impl ExportRow {
                 "not a finite time >= 0",
             );
         }
-        let decided = matches!(
-            self.outcome.as_deref(),
-            Some("train" | "walk_past" | "reversal" | "breakup")
-        );
+        let decided = self
+            .outcome
+            .as_deref()
+            .and_then(End::of_outcome)
+            .is_some_and(End::decided);
         if decided && self.decision_time.is_none() {
             bad("decision_time", &"", "a decided outcome needs its time");
         }
@@ -200,13 +199,12 @@ impl ExportRow {
         // differently (AVX-512, AVX2) agree on them to round-off only, on the fields exactly.
         const SUMS: [&str; 2] = ["free_speed", "threshold_speed"];
         let (a, b) = (fields(self), fields(other));
-        let alike = |k: &str, x: Option<&serde_json::Value>, y: Option<&serde_json::Value>| {
-            match (x.and_then(|v| v.as_f64()), y.and_then(|v| v.as_f64())) {
-                (Some(x), Some(y)) if SUMS.contains(&k) => {
-                    same_to_round_off(Some(x), Some(y))
-                }
-                _ => x == y,
-            }
+        let alike = |k: &str, x: Option<&serde_json::Value>, y: Option<&serde_json::Value>| match (
+            x.and_then(|v| v.as_f64()),
+            y.and_then(|v| v.as_f64()),
+        ) {
+            (Some(x), Some(y)) if SUMS.contains(&k) => same_to_round_off(Some(x), Some(y)),
+            _ => x == y,
         };
         a.keys()
             .filter(|k| !NOT_RESULTS.contains(&k.as_str()))

@@ -35,5 +35,5 @@ pub use record::{PrepRecord, ResultRecord};
 pub use register::{NewJob, NewPoint, NewPrep, NewSweep, Registration};
 pub use reset::{PointRef, Reset};
 pub use slurm_arrays::SlurmArray;
-pub use status::{Failure, MeasuredCost, OutcomeCounts, PointCounts, StateCounts, SweepStatus};
+pub use status::{Failure, MeasuredCost, PointCounts, StateCounts, SweepStatus};
 pub use tasks::{JobTask, PrepTask};

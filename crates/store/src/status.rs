@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::database::Store;
 use crate::error::Result;
-use cellsweep_stats::End;
+use cellsweep_stats::{End, Tally};
 
 /// Jobs of one sweep and solver version, by state.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -23,34 +23,13 @@ impl StateCounts {
     }
 }
 
-/// Results by label: the four outcomes, and jobs decided by a prep verdict.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct OutcomeCounts {
-    pub train: i64,
-    pub walk_past: i64,
-    pub reversal: i64,
-    pub undetermined: i64,
-    pub unstable: i64,
-    pub breakup: i64,
-    /// Collisions in which a cell broke up (SPEC section 5).
-    #[serde(default)]
-    pub collision_breakup: i64,
-}
-
-impl OutcomeCounts {
-    fn add(&mut self, verdict: &str, outcome: Option<&str>, n: i64) {
-        // The schema admits no other pair; anything else would be a broken prep, counted so.
-        let slot = match End::of(verdict, outcome).unwrap_or(End::Breakup) {
-            End::Train => &mut self.train,
-            End::WalkPast => &mut self.walk_past,
-            End::Reversal => &mut self.reversal,
-            End::Undetermined => &mut self.undetermined,
-            End::Unstable => &mut self.unstable,
-            End::Breakup => &mut self.breakup,
-            End::CollisionBreakup => &mut self.collision_breakup,
-        };
-        *slot += n;
-    }
+/// The end of `n` stored results with this verdict and outcome, added to `tally`. The
+/// schema admits no other pair; anything else would be a broken prep, counted so.
+fn add_stored(tally: &mut Tally, verdict: &str, outcome: Option<&str>, n: i64) {
+    tally.add(
+        End::of(verdict, outcome).unwrap_or(End::Breakup),
+        n.max(0) as u64,
+    );
 }
 
 /// Progress of one sweep under one solver version.
@@ -59,7 +38,7 @@ pub struct SweepStatus {
     pub sweep: String,
     pub solver_version: String,
     pub jobs: StateCounts,
-    pub outcomes: OutcomeCounts,
+    pub outcomes: Tally,
     pub preps_done: i64,
     pub preps_total: i64,
     /// Jobs finished per second over the latest ten minutes of activity.
@@ -79,7 +58,7 @@ pub struct PointCounts {
     pub beta: f64,
     pub L: u32,
     pub sigma: f64,
-    pub outcomes: OutcomeCounts,
+    pub outcomes: Tally,
     pub jobs: StateCounts,
     /// Mean free speed of the point's prepped cells.
     pub free_speed: Option<f64>,
@@ -186,12 +165,7 @@ impl Store {
         Ok(c)
     }
 
-    fn outcome_counts(
-        &self,
-        sweep_id: i64,
-        version: &str,
-        point: Option<i64>,
-    ) -> Result<OutcomeCounts> {
+    fn outcome_counts(&self, sweep_id: i64, version: &str, point: Option<i64>) -> Result<Tally> {
         let mut q = self.conn.prepare_cached(match self.has_progress() {
             true => {
                 "SELECT po.verdict, NULLIF(po.outcome, ''), SUM(po.n) FROM point_outcomes po
@@ -206,7 +180,7 @@ impl Store {
                  GROUP BY r.verdict, r.outcome"
             }
         })?;
-        let mut c = OutcomeCounts::default();
+        let mut c = Tally::default();
         let rows = q.query_map(params![sweep_id, version, point], |r| {
             Ok((
                 r.get::<_, String>(0)?,
@@ -216,7 +190,7 @@ impl Store {
         })?;
         for row in rows {
             let (verdict, outcome, n) = row?;
-            c.add(&verdict, outcome.as_deref(), n);
+            add_stored(&mut c, &verdict, outcome.as_deref(), n);
         }
         Ok(c)
     }
@@ -236,7 +210,7 @@ impl Store {
                     beta: r.get(2)?,
                     L: r.get(3)?,
                     sigma: r.get(4)?,
-                    outcomes: OutcomeCounts::default(),
+                    outcomes: Tally::default(),
                     jobs: StateCounts::default(),
                     free_speed: None,
                 })
@@ -264,9 +238,13 @@ impl Store {
         while let Some(r) = rows.next()? {
             if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {
                 let outcome: Option<String> = r.get(2)?;
-                out[i]
-                    .outcomes
-                    .add(&r.get::<_, String>(1)?, outcome.as_deref(), r.get(3)?);
+                let verdict: String = r.get(1)?;
+                add_stored(
+                    &mut out[i].outcomes,
+                    &verdict,
+                    outcome.as_deref(),
+                    r.get(3)?,
+                );
             }
         }
         for (point, jobs) in self.point_states(sweep_id, version)? {

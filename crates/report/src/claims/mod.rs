@@ -12,7 +12,7 @@ mod line;
 mod outcomes;
 mod spacing;
 
-use cellsweep_stats::{wilson, Column, Counts, Label};
+use cellsweep_stats::{wilson, Column, Counts, End, Label};
 
 use crate::analysis::Analysis;
 use crate::collection::Shown;
@@ -82,9 +82,9 @@ pub(super) fn with_label<'s>(s: &'s Shown<'_>, label: Label) -> Vec<&'s Counts> 
 pub(super) fn sums<'c>(points: impl Iterator<Item = &'c Counts>) -> (u64, u64, u64, u64) {
     points.filter(|c| c.collided()).fold((0, 0, 0, 0), |a, c| {
         (
-            a.0 + c.n_train,
-            a.1 + c.n_walk,
-            a.2 + c.n_reversal,
+            a.0 + c.n_train(),
+            a.1 + c.n_walk(),
+            a.2 + c.tally[End::Reversal],
             a.3 + collided(c),
         )
     })
@@ -201,8 +201,9 @@ mod tests {
                 let (alpha, beta) = (0.1 + 0.02 * i as f64, 10.0 + 4.0 * j as f64);
                 let w = (96.0 * walk(alpha, beta)).round() as u64;
                 counts.push(Counts {
-                    n_train: 96 - w,
-                    n_walk: w,
+                    tally: [(End::Train, 96 - w), (End::WalkPast, w)]
+                        .into_iter()
+                        .collect(),
                     ..Counts::none(alpha, beta, l, sigma)
                 });
             }
@@ -322,8 +323,9 @@ mod tests {
         for i in 0..20 {
             let w = if i % 2 == 0 { 52 } else { 44 };
             counts.push(Counts {
-                n_train: 96 - w,
-                n_walk: w,
+                tally: [(End::Train, 96 - w), (End::WalkPast, w)]
+                    .into_iter()
+                    .collect(),
                 ..Counts::none(0.16, 34.0 + 0.125 * i as f64, 90, 5.0)
             });
         }
@@ -362,8 +364,7 @@ mod tests {
             let alpha = 0.12 + 0.02 * (i % 5) as f64;
             let beta = on_line(alpha) - 3.0 + 0.0625 * (i / 5) as f64 + 0.01;
             refined[0].counts.push(Counts {
-                n_train: 96,
-                n_walk: 0,
+                tally: [(End::Train, 96), (End::WalkPast, 0)].into_iter().collect(),
                 ..Counts::none(alpha, beta, 90, 5.0)
             });
         }

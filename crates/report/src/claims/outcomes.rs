@@ -1,6 +1,6 @@
 //! What collisions give: on one fiber, and on two at L = 90, sigma = 5 (Fig. 2 and 3).
 
-use cellsweep_stats::{falls_back, Counts, Label, Tally};
+use cellsweep_stats::{falls_back, Counts, Label, WalkTrain};
 
 use super::{graded, no_data, pct, sums, with_label, Claim, Verdict};
 use crate::analysis::Analysis;
@@ -133,13 +133,13 @@ pub(super) fn transition(an: &Analysis<'_>) -> Claim {
     alphas.dedup();
     let mut bad = Vec::new();
     for &a in &alphas {
-        let col: Vec<Tally> = s
+        let col: Vec<WalkTrain> = s
             .counts()
             .filter(|c| c.alpha == a && c.collided())
-            .map(|c| Tally {
+            .map(|c| WalkTrain {
                 beta: c.beta,
-                walk: c.n_walk,
-                train: c.n_train,
+                walk: c.n_walk(),
+                train: c.n_train(),
             })
             .collect();
         if let Some(beta) = falls_back(&col) {

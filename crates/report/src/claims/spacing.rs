@@ -32,10 +32,10 @@ pub(super) fn spacing(an: &Analysis<'_>) -> Claim {
     let pairs = matched(a, b);
     let (t70, n70) = pairs
         .iter()
-        .fold((0, 0), |s, (c, _)| (s.0 + c.n_train, s.1 + collided(c)));
+        .fold((0, 0), |s, (c, _)| (s.0 + c.n_train(), s.1 + collided(c)));
     let (t90, n90) = pairs
         .iter()
-        .fold((0, 0), |s, (_, d)| (s.0 + d.n_train, s.1 + collided(d)));
+        .fold((0, 0), |s, (_, d)| (s.0 + d.n_train(), s.1 + collided(d)));
     let (c70, c90) = (an.columns(70, 5.0), an.columns(90, 5.0));
     let stars = paired_stars(c70.unwrap_or(&[]), c90.unwrap_or(&[]));
     let higher = stars.iter().all(|&(_, x, y)| x >= y);

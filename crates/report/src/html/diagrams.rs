@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::Standing;
+use cellsweep_stats::{End, Standing};
 
 use super::escape;
 use crate::analysis::Analysis;
@@ -42,11 +42,11 @@ pub(super) fn diagram_summary(s: &Shown<'_>) -> String {
     // and named where they are.
     let broke: Vec<String> = s
         .counts()
-        .filter(|c| c.n_collision_breakup > 0)
+        .filter(|c| c.tally[End::CollisionBreakup] > 0)
         .map(|c| {
             format!(
                 "{}/{} at (α {}, β {})",
-                c.n_collision_breakup,
+                c.tally[End::CollisionBreakup],
                 c.total(),
                 c.alpha,
                 c.beta
@@ -54,7 +54,7 @@ pub(super) fn diagram_summary(s: &Shown<'_>) -> String {
         })
         .collect();
     if !broke.is_empty() {
-        let n: u64 = s.counts().map(|c| c.n_collision_breakup).sum();
+        let n: u64 = s.counts().map(|c| c.tally[End::CollisionBreakup]).sum();
         out += &format!(
             "; {n} collisions broke up (a cell split during the collision, SPEC section 5): {}",
             broke.join(", ")
@@ -139,24 +139,24 @@ pub(super) fn checks_section(h: &mut String, an: &Analysis<'_>) {
     }
     match an.collection.spindle {
         Some(r) => {
-            h.push_str(
-                "<table>\n<tr><th>one fiber: α, β, σ</th><th>n</th><th>training</th>\
-                 <th>walk-past</th><th>reversal</th><th>undetermined</th></tr>\n",
-            );
+            h.push_str("<table>\n<tr><th>one fiber: α, β, σ</th><th>n</th>");
+            for e in End::ALL.into_iter().filter(|e| e.always_shown()) {
+                let _ = write!(h, "<th>{}</th>", e.words());
+            }
+            h.push_str("</tr>\n");
             for c in &r.counts {
-                let _ = writeln!(
+                let _ = write!(
                     h,
-                    "<tr><td>{}, {}, {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
-                     <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+                    "<tr><td>{}, {}, {}</td><td class=\"num\">{}</td>",
                     c.alpha,
                     c.beta,
                     c.sigma,
-                    c.total(),
-                    c.n_train,
-                    c.n_walk,
-                    c.n_reversal,
-                    c.n_undetermined
+                    c.total()
                 );
+                for e in End::ALL.into_iter().filter(|e| e.always_shown()) {
+                    let _ = write!(h, "<td class=\"num\">{}</td>", c.tally[e]);
+                }
+                h.push_str("</tr>\n");
             }
             h.push_str("</table>\n");
         }

@@ -12,7 +12,8 @@
 use std::collections::{HashMap, VecDeque};
 use std::time::Duration;
 
-use cellsweep_store::{OutcomeCounts, Store};
+use cellsweep_stats::Tally;
+use cellsweep_store::Store;
 use tokio::sync::{mpsc, watch};
 use tokio::task::JoinHandle;
 
@@ -47,7 +48,7 @@ pub struct Progress {
     pub jobs_total: u64,
     pub preps_done: u64,
     pub preps_total: u64,
-    pub outcomes: OutcomeCounts,
+    pub outcomes: Tally,
     pub failed: u64,
     pub retries: u64,
     pub running: usize,

@@ -6,7 +6,8 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use cellsweep_solver::{Outcome, Verdict};
 use cellsweep_stats::throughput;
-use cellsweep_store::{JobState, JobTask, OutcomeCounts, PrepTask, Store};
+use cellsweep_stats::{End, Tally};
+use cellsweep_store::{JobState, JobTask, PrepTask, Store};
 use tokio::sync::mpsc;
 
 use super::Progress;
@@ -31,17 +32,9 @@ pub(super) struct Worker {
 }
 
 /// Count `n` replicates that ended so in the outcome counts of a run.
-fn count(outcomes: &mut OutcomeCounts, verdict: &str, outcome: Option<Outcome>, n: i64) {
-    let slot = match (verdict, outcome) {
-        (_, Some(Outcome::Train)) => &mut outcomes.train,
-        (_, Some(Outcome::WalkPast)) => &mut outcomes.walk_past,
-        (_, Some(Outcome::Reversal)) => &mut outcomes.reversal,
-        (_, Some(Outcome::Undetermined)) => &mut outcomes.undetermined,
-        (_, Some(Outcome::Breakup)) => &mut outcomes.collision_breakup,
-        ("unstable", None) => &mut outcomes.unstable,
-        _ => &mut outcomes.breakup,
-    };
-    *slot += n;
+fn count(outcomes: &mut Tally, verdict: &str, outcome: Option<Outcome>, n: u64) {
+    let end = End::of(verdict, outcome.map(Outcome::as_str)).unwrap_or(End::Breakup);
+    outcomes.add(end, n);
 }
 
 pub(super) struct Run<'a> {
@@ -254,7 +247,7 @@ impl<'a> Run<'a> {
                 &mut self.progress.outcomes,
                 verdict.as_str(),
                 None,
-                settled as i64,
+                settled as u64,
             );
         }
     }

@@ -160,10 +160,7 @@ fn prep_problem(
     }
     let outcome_ok = match row.outcome.as_deref() {
         None => verdict != "ok",
-        Some(o) => {
-            verdict == "ok"
-                && ["train", "walk_past", "reversal", "undetermined", "breakup"].contains(&o)
-        }
+        Some(o) => verdict == "ok" && cellsweep_stats::End::of_outcome(o).is_some(),
     };
     if row.verdict != verdict || !outcome_ok {
         return Ok(Some(format!(

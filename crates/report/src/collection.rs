@@ -227,7 +227,7 @@ mod tests {
 
     fn results(name: &str, l: u32, n: u64, two_fibers: bool, preps: u32) -> Results {
         let c = Counts {
-            n_train: n,
+            tally: [(cellsweep_stats::End::Train, n)].into_iter().collect(),
             ..Counts::none(0.1, 10.0, l, 5.0)
         };
         Results {

@@ -1,5 +1,6 @@
 //! The store: files it refuses, and the job lifecycle that never finishes a job twice.
 
+use cellsweep_stats::End;
 use cellsweep_store::{
     JobState, NewJob, NewPoint, NewPrep, NewSweep, ResultRecord, Store, StoreError,
 };
@@ -187,7 +188,7 @@ fn a_job_goes_pending_running_done_exactly_once() {
         ),
         (1, 1, 1, 0)
     );
-    assert_eq!(st.outcomes.train, 1);
+    assert_eq!(st.outcomes[End::Train], 1);
 }
 
 #[test]
@@ -208,11 +209,9 @@ fn sweeps_and_solver_versions_stay_apart() {
     assert_eq!(v2.other_versions, vec![("v1".to_string(), 1)]);
     assert_eq!(pending(&mut store, a.sweep_id, "v2").len(), 3);
     let counts = store.point_counts(a.sweep_id, "v2").unwrap();
-    assert_eq!(counts[0].outcomes.train, 0);
+    assert_eq!(counts[0].outcomes[End::Train], 0);
     assert_eq!(
-        store.point_counts(a.sweep_id, "v1").unwrap()[0]
-            .outcomes
-            .train,
+        store.point_counts(a.sweep_id, "v1").unwrap()[0].outcomes[End::Train],
         1
     );
 
@@ -225,7 +224,10 @@ fn sweeps_and_solver_versions_stay_apart() {
     assert!(r.created);
     let archived = r.archived_as.unwrap();
     let old = store.sweep_id(&archived).unwrap();
-    assert_eq!(store.point_counts(old, "v1").unwrap()[0].outcomes.train, 1);
+    assert_eq!(
+        store.point_counts(old, "v1").unwrap()[0].outcomes[End::Train],
+        1
+    );
 }
 
 #[test]
@@ -254,7 +256,7 @@ fn a_sweep_grows_its_replicates_but_never_shrinks() {
     assert_eq!(seeds, vec![1002, 1003, 1004]);
     let st = &store.status().unwrap()[0];
     assert_eq!((st.jobs.done, st.jobs.pending), (2, 3));
-    assert_eq!(st.outcomes.train, 2);
+    assert_eq!(st.outcomes[End::Train], 2);
     // Registering the grown definition again is a plain resume.
     let again = store.register(&sweep_of(&spec(5), "v1", 5), false).unwrap();
     assert_eq!((again.created, again.grown_from), (false, None));
@@ -318,7 +320,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
     };
     let read = Store::open_read(&path).unwrap();
     let before = read.status().unwrap();
-    assert_eq!(before[0].outcomes.train, 1);
+    assert_eq!(before[0].outcomes[End::Train], 1);
     assert_eq!(before[0].jobs.done, 1);
     drop(read);
     assert_eq!(version(&path), "2", "a reader changes nothing");
@@ -333,7 +335,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
         Some(JobState::Failed)
     );
     assert_eq!(store.retry_failed(reg.sweep_id, "v1").unwrap(), 1);
-    assert_eq!(store.status().unwrap()[0].outcomes.train, 1);
+    assert_eq!(store.status().unwrap()[0].outcomes[End::Train], 1);
 }
 
 #[test]

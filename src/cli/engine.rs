@@ -152,6 +152,11 @@ pub struct ResetArgs {
     /// not one is refused), one point per row.
     #[arg(long, value_name = "FILE.csv")]
     pub points: Option<std::path::PathBuf>,
+    /// Put back only what a change of the breakup rule can change: collisions stored as
+    /// breakup, and preps whose verdict is breakup with the jobs that start from them (at the
+    /// points given, or at every point of the sweep).
+    #[arg(long)]
+    pub breakups: bool,
     /// Say what would be put back, changing nothing.
     #[arg(long)]
     pub dry_run: bool,

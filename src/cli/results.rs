@@ -236,6 +236,12 @@ pub struct VerifyArgs {
     /// Replay every row.
     #[arg(long)]
     pub all: bool,
+    /// Only rows that ended so (repeat for several): train, walk_past, reversal,
+    /// undetermined, collision_breakup, or a prep's unstable or breakup. E.g. `--ended
+    /// collision_breakup --ended breakup --all` replays every stored breakup under this
+    /// build's rule.
+    #[arg(long, value_name = "END")]
+    pub ended: Vec<String>,
 }
 
 #[derive(Debug, Args)]

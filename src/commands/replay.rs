@@ -2,9 +2,10 @@
 //! `cellsweep verify` (a seeded sample of a store's or an export's rows replayed).
 
 use anyhow::{bail, Context};
-use cellsweep_scheduler::replay::{replay, ReplayError, Replayed};
+use cellsweep_scheduler::replay::{replay, replay_with, PrepCache, ReplayError, Replayed};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::Silent;
+use cellsweep_stats::End;
 use cellsweep_store::export::ExportRow;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
@@ -226,14 +227,35 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<i32> {
 }
 
 pub fn verify(args: VerifyArgs) -> anyhow::Result<i32> {
+    let ended: Vec<End> = args
+        .ended
+        .iter()
+        .map(|name| {
+            End::ALL
+                .into_iter()
+                .find(|e| e.name() == name)
+                .with_context(|| {
+                    let names: Vec<&str> = End::ALL.iter().map(|e| e.name()).collect();
+                    format!("--ended {name:?}: not one of {}", names.join(", "))
+                })
+        })
+        .collect::<anyhow::Result<_>>()?;
     let sets = args.source.all_rows()?;
     let mut chosen: Vec<(&Sweep, &ExportRow)> = sets
         .iter()
         .flat_map(|(sweep, rows)| rows.iter().map(move |r| (sweep, r)))
+        .filter(|(_, r)| {
+            ended.is_empty()
+                || End::of(&r.verdict, r.outcome.as_deref()).is_some_and(|e| ended.contains(&e))
+        })
         .collect();
     let total = chosen.len();
     if total == 0 {
-        bail!("{}: no finished rows to verify", args.source.name());
+        let which = match ended.is_empty() {
+            true => String::new(),
+            false => format!(" that ended as {}", args.ended.join(" or ")),
+        };
+        bail!("{}: no finished rows{which} to verify", args.source.name());
     }
     if !args.all {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
@@ -253,9 +275,10 @@ pub fn verify(args: VerifyArgs) -> anyhow::Result<i32> {
         }
     );
     let (mut same, mut close, mut differ, mut other) = (0, 0, 0, 0);
+    let mut preps = PrepCache::new();
     for (k, (sweep, row)) in chosen.iter().enumerate() {
         let started = std::time::Instant::now();
-        let what = match replay(sweep, row, &mut Silent, false) {
+        let what = match replay_with(sweep, row, &mut Silent, false, &mut preps) {
             Ok(r) if r.differences.is_empty() => {
                 same += 1;
                 "identical".to_string()

@@ -123,8 +123,8 @@ fn read_points(path: &std::path::Path, axes: &[String]) -> anyhow::Result<Vec<Se
 }
 
 pub fn run(args: ResetArgs) -> anyhow::Result<()> {
-    if args.point.is_empty() && args.points.is_none() {
-        bail!("say which points to put back: --point alpha=0.1,beta=46 or --points FILE.csv");
+    if args.point.is_empty() && args.points.is_none() && !args.breakups {
+        bail!("say what to put back: --point alpha=0.1,beta=46, --points FILE.csv or --breakups");
     }
     let db = &args.db.db;
     // The sweep and its axes, read before anything is locked or written: a selector that does
@@ -161,6 +161,10 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
     let sweep_id = store.sweep_id(&name)?;
     let points = store.sweep_points(sweep_id)?;
     let mut chosen: Vec<i64> = Vec::new();
+    if selectors.is_empty() {
+        // --breakups alone: every point of the sweep.
+        chosen.extend(points.iter().map(|p| p.id));
+    }
     for s in &selectors {
         let hits: Vec<i64> = points
             .iter()
@@ -174,6 +178,9 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
     }
     chosen.sort_unstable();
     chosen.dedup();
+    if args.breakups {
+        return reset_breakups(&mut store, &name, db, &chosen, args.dry_run);
+    }
     if args.dry_run {
         let jobs = store.jobs_of_points(&chosen, SOLVER_VERSION)?;
         println!(
@@ -192,6 +199,42 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
         r.points,
         db.display(),
         r.results
+    );
+    Ok(())
+}
+
+/// `--breakups`: what a change of the breakup rule can change at the chosen points, and only
+/// that. A dry run rolls the change back after counting it.
+fn reset_breakups(
+    store: &mut Store,
+    name: &str,
+    db: &std::path::Path,
+    chosen: &[i64],
+    dry_run: bool,
+) -> anyhow::Result<()> {
+    if dry_run {
+        let r = store.count_breakups(SOLVER_VERSION, chosen)?;
+        println!(
+            "would put back {} jobs at {} points of {name:?} in {} ({} results, {} preps to \
+             compute again; dry run: nothing changed)",
+            r.jobs,
+            r.points,
+            db.display(),
+            r.results,
+            r.preps
+        );
+        return Ok(());
+    }
+    store.check_integrity()?;
+    let r = store.reset_breakups(SOLVER_VERSION, chosen)?;
+    println!(
+        "put back {} jobs at {} points of {name:?} in {} ({} results deleted, {} preps to \
+         compute again): every stored breakup; `cellsweep run` of the sweep computes them again",
+        r.jobs,
+        r.points,
+        db.display(),
+        r.results,
+        r.preps
     );
     Ok(())
 }

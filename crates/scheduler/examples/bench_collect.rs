@@ -111,6 +111,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 contact_time: Some(41.5),
                 decision_time: Some(181.0),
                 breakup_reason: None,
+                sheddings: 0,
                 attachment: Some([Attachment::Bottom, Attachment::Top]),
                 collision_steps: 90_500,
                 patch: None,

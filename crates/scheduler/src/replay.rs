@@ -9,9 +9,11 @@
 //! what the store would hold. A row of another solver version is not compared: the answer says
 //! so instead.
 
+use std::collections::HashMap;
+
 use cellsweep_solver::{
-    run_trajectory, ClassifierSettings, Collision, Config, Monitor, Prep, Seeds, TrajectoryResult,
-    SOLVER_VERSION,
+    collide, prepare_with, ClassifierSettings, Collision, Config, Monitor, Prep, Seeds,
+    TrajectoryResult, Verdict, SOLVER_VERSION,
 };
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::ResultRecord;
@@ -87,12 +89,54 @@ pub fn config_of_row(sweep: &Sweep, row: &ExportRow) -> Result<Config, ReplayErr
     })
 }
 
+/// Preps computed by earlier replays, by seed and configuration: the replicates of one point
+/// (and the points that differ only in sigma) start from one prep, computed once.
+#[derive(Default)]
+pub struct PrepCache(HashMap<(u64, String), Prep>);
+
+impl PrepCache {
+    pub fn new() -> PrepCache {
+        PrepCache::default()
+    }
+
+    /// The prep of `config` from `seed`: from the cache, or computed (and kept).
+    fn get(
+        &mut self,
+        config: &Config,
+        seed: u64,
+        monitor: &mut dyn Monitor,
+        parallel: bool,
+    ) -> Result<&Prep, ReplayError> {
+        // The whole parameter set and protocol: more than the prep needs, never less.
+        let key = (
+            seed,
+            serde_json::to_string(&(&config.params, &config.protocol)).unwrap_or_default(),
+        );
+        if !self.0.contains_key(&key) {
+            let prep = prepare_with(&config.params, &config.protocol, seed, monitor, parallel)?;
+            self.0.insert(key.clone(), prep);
+        }
+        Ok(&self.0[&key])
+    }
+}
+
 /// Replay `row` of `sweep` (progress and frames to `monitor`) and compare it with the row.
 pub fn replay(
     sweep: &Sweep,
     row: &ExportRow,
     monitor: &mut dyn Monitor,
     parallel: bool,
+) -> Result<Replayed, ReplayError> {
+    replay_with(sweep, row, monitor, parallel, &mut PrepCache::new())
+}
+
+/// [`replay`], its prep taken from `cache` where an earlier replay computed it.
+pub fn replay_with(
+    sweep: &Sweep,
+    row: &ExportRow,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+    cache: &mut PrepCache,
 ) -> Result<Replayed, ReplayError> {
     if row.solver_version != SOLVER_VERSION {
         return Err(ReplayError::OtherVersion {
@@ -105,7 +149,20 @@ pub fn replay(
         prep: row.prep_seed,
         collision: row.collision_seed,
     };
-    let (result, prep, collision) = run_trajectory(&config, seeds, monitor, parallel)?;
+    let prep = cache.get(&config, seeds.prep, monitor, parallel)?.clone();
+    let collision = match prep.verdict {
+        Verdict::Ok => Some(collide(
+            &config.params,
+            &config.protocol,
+            &config.classifier,
+            &prep,
+            seeds.collision,
+            monitor,
+            parallel,
+        )?),
+        _ => None,
+    };
+    let result = TrajectoryResult::new(&config, &prep, seeds.collision, collision.as_ref());
     let differences = differences(row, &result_record(&result, 0.0), &prep_hash(&prep));
     Ok(Replayed {
         config,
@@ -132,7 +189,12 @@ pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<
         .attachment
         .clone()
         .map_or([None, None], |[a, b]| [Some(a), Some(b)]);
-    let fields: [(&'static str, String, String); 12] = [
+    // (The drops shed are in the whole record only: the results table has no column for them.)
+    let sheddings = serde_json::from_str::<serde_json::Value>(&replayed.record)
+        .ok()
+        .and_then(|r| r["sheddings"].as_u64())
+        .unwrap_or(0);
+    let fields: [(&'static str, String, String); 13] = [
         ("verdict", row.verdict.clone(), replayed.verdict.clone()),
         (
             "outcome",
@@ -174,6 +236,11 @@ pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<
             "breakup_reason",
             text(row.breakup_reason.as_deref()),
             text(replayed.breakup_reason.as_deref()),
+        ),
+        (
+            "sheddings",
+            row.sheddings.to_string(),
+            sheddings.to_string(),
         ),
         ("prep_hash", row.prep_hash.clone(), hash.to_string()),
         (

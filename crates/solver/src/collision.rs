@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::breakup::BreakupWatch;
 use crate::cell::{step_pair, step_pair_in, Cell};
 use crate::classifier::{Classifier, ClassifierSettings, Decision, Outcome};
 use crate::error::SolverError;
@@ -13,7 +14,7 @@ use crate::noise::Noise;
 use crate::observables::{overlap, Attachment};
 use crate::params::Params;
 use crate::patch::{PatchStats, Patches};
-use crate::prep::{breakup_reason, Prep};
+use crate::prep::Prep;
 use crate::protocol::{Precision, Protocol, StageSteps};
 use crate::real::Real;
 
@@ -48,6 +49,10 @@ pub struct Collision {
     pub threshold_speed: f64,
     /// Why a cell broke up, when the outcome is `breakup` (which cell, and the rule it failed).
     pub breakup_reason: Option<String>,
+    /// Drops the two cells shed: second pieces of the region phi > 0.5 that did not break a
+    /// cell up (SPEC section 5), counted, not labelled.
+    #[serde(default)]
+    pub sheddings: u32,
     /// Steps run (fewer than the protocol's when stopped early).
     pub steps: u64,
     /// What the per-cell windows did (`None` when they were off).
@@ -153,6 +158,7 @@ pub fn collide(
     let Ended {
         decision,
         breakup_reason,
+        sheddings,
         at_decision,
         done,
         patch,
@@ -168,6 +174,7 @@ pub fn collide(
         ],
         threshold_speed: classifier.threshold_speed(),
         breakup_reason,
+        sheddings,
         steps: done,
         patch,
         track,
@@ -178,6 +185,8 @@ pub fn collide(
 struct Ended {
     decision: Option<Decision>,
     breakup_reason: Option<String>,
+    /// Drops both cells shed (second pieces that did not break a cell up).
+    sheddings: u32,
     /// Integrals of both cells at the decision (or at the end).
     at_decision: [Sums; 2],
     done: u64,
@@ -225,6 +234,7 @@ impl Run<'_> {
             classifier.observe(0.0, first.x[0], first.x[1], first.overlap);
         let mut at_decision: [Sums; 2] = [a.sums, b.sums];
         let mut broke: Option<String> = None;
+        let mut watch = [BreakupWatch::new(), BreakupWatch::new()];
         let mut track = vec![first];
 
         monitor.stage(Stage::Collide, steps.collide);
@@ -268,10 +278,15 @@ impl Run<'_> {
             // is no longer finite. It ends the collision like any other outcome.
             let diverged = !(a.sums.area.is_finite() && b.sums.area.is_finite());
             if decision.is_none() && (diverged || n % steps.check_every == 0) {
-                let broken = [&a, &b]
-                    .iter()
+                // Both cells are checked, so that each watch sees every check.
+                let why = [
+                    watch[0].check(lat, params, &a),
+                    watch[1].check(lat, params, &b),
+                ];
+                let broken = why
+                    .into_iter()
                     .enumerate()
-                    .find_map(|(k, c)| Some((k, breakup_reason(lat, params, c)?)));
+                    .find_map(|(k, why)| Some((k, why?)));
                 if let Some((k, why)) = broken {
                     let d = Decision {
                         outcome: Outcome::Breakup,
@@ -320,6 +335,7 @@ impl Run<'_> {
         Ok(Ended {
             decision,
             breakup_reason: broke,
+            sheddings: watch[0].sheddings + watch[1].sheddings,
             at_decision,
             done,
             patch: patches.map(|pt| pt.stats()),

@@ -17,6 +17,7 @@
 //! println!("{:?}", result.outcome);
 //! ```
 
+pub mod breakup;
 pub mod cell;
 pub mod classifier;
 pub mod collision;
@@ -36,6 +37,7 @@ pub mod real;
 pub mod seed;
 pub mod trajectory;
 
+pub use breakup::BreakupWatch;
 pub use cell::Cell;
 pub use classifier::{Classifier, ClassifierSettings, Decision, Outcome};
 pub use collision::{collide, place_pair, Collision, Sample};

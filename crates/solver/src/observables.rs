@@ -91,15 +91,26 @@ pub fn overlap<T: Real>(nx: usize, a: &[T], b: &[T]) -> f64 {
 
 /// Sizes of the 4-connected components (periodic in both directions) of the region phi > 0.5.
 pub fn components<T: Real>(lat: &Lattice, phi: &[T]) -> Vec<usize> {
+    pieces(lat, phi).1
+}
+
+/// The 4-connected components (periodic in both directions) of the region phi > 0.5: each
+/// site's piece (0 outside the region, k + 1 in the k-th piece) and each piece's size.
+pub fn pieces<T: Real>(lat: &Lattice, phi: &[T]) -> (Vec<u32>, Vec<usize>) {
     let (nx, ny) = (lat.nx, lat.ny);
-    let mut seen: Vec<bool> = phi.iter().map(|&v| v.to_f64() <= 0.5).collect();
+    // u32::MAX: in the region, not reached yet.
+    let mut label: Vec<u32> = phi
+        .iter()
+        .map(|&v| if v.to_f64() > 0.5 { u32::MAX } else { 0 })
+        .collect();
     let mut sizes = Vec::new();
     let mut stack = Vec::new();
     for start in 0..phi.len() {
-        if seen[start] {
+        if label[start] != u32::MAX {
             continue;
         }
-        seen[start] = true;
+        let id = sizes.len() as u32 + 1;
+        label[start] = id;
         stack.push(start);
         let mut size = 0;
         while let Some(s) = stack.pop() {
@@ -112,15 +123,15 @@ pub fn components<T: Real>(lat: &Lattice, phi: &[T]) -> Vec<usize> {
                 ((j + ny - 1) % ny) * nx + i,
             ];
             for q in neighbours {
-                if !seen[q] {
-                    seen[q] = true;
+                if label[q] == u32::MAX {
+                    label[q] = id;
                     stack.push(q);
                 }
             }
         }
         sizes.push(size);
     }
-    sizes
+    (label, sizes)
 }
 
 /// Which fibers a cell holds on to, from its adhesive areas: a fiber whose adhesive area is

@@ -2,18 +2,17 @@
 //! They depend only on the single-cell parameters and the prep seed, never on sigma or g.
 
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 
+use crate::breakup::BreakupWatch;
 use crate::cell::Cell;
 use crate::error::SolverError;
 use crate::fibers::Fibers;
 use crate::lattice::Lattice;
 use crate::monitor::{Monitor, Stage};
 use crate::noise::Noise;
-use crate::observables::{all_finite, components, max_of, FieldSummary, LET_GO_FRACTION};
+use crate::observables::{FieldSummary, LET_GO_FRACTION};
 use crate::params::{Geometry, Params};
 use crate::protocol::Protocol;
-use crate::real::Real;
 
 /// The verdict on a prepped cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -114,8 +113,9 @@ pub fn check_verdict(
     fibers: &Fibers,
     params: &Params,
     cell: &Cell,
+    watch: &mut BreakupWatch,
 ) -> Option<(Verdict, String)> {
-    if let Some(why) = breakup_reason(lat, params, cell) {
+    if let Some(why) = watch.check(lat, params, cell) {
         return Some((Verdict::Breakup, why));
     }
     if params.geometry == Geometry::Two && fibers.count() == 2 {
@@ -131,40 +131,6 @@ pub fn check_verdict(
         }
     }
     None
-}
-
-/// The breakup rule of SPEC sections 4 and 5, in words, or `None` while the cell is whole: a
-/// value that is not finite, max phi < 0.5, S < 0.5 pi R0^2, or the region phi > 0.5 in more
-/// than one 4-connected periodic piece of 10 or more sites. The prep checks it on its cell and
-/// the collision on each of its two (in the collision's precision).
-pub fn breakup_reason<T: Real>(lat: &Lattice, params: &Params, cell: &Cell<T>) -> Option<String> {
-    let half_area = 0.5 * PI * params.R0 * params.R0;
-    let max_phi = max_of(&cell.phi);
-    if !all_finite(&[&cell.phi, &cell.p]) || !cell.sums.area.is_finite() {
-        Some("the fields are not finite (NaN or infinite values)".to_string())
-    } else if max_phi < 0.5 {
-        Some(format!("max phi = {max_phi:.4} < 0.5"))
-    } else if cell.sums.area < half_area {
-        Some(format!(
-            "S = {:.1} < 0.5 pi R0^2 = {half_area:.1}",
-            cell.sums.area
-        ))
-    } else {
-        let mut pieces: Vec<usize> = components(lat, &cell.phi)
-            .into_iter()
-            .filter(|&n| n >= 10)
-            .collect();
-        pieces.sort_unstable_by(|a, b| b.cmp(a));
-        (pieces.len() > 1).then(|| {
-            // The sizes tell a cell cut in two from a small drop pinched off its tail.
-            let sizes: Vec<String> = pieces.iter().map(usize::to_string).collect();
-            format!(
-                "the region phi > 0.5 is in {} pieces of 10 or more sites ({} sites)",
-                pieces.len(),
-                sizes.join(", ")
-            )
-        })
-    }
 }
 
 /// Stages 1 to 4: relax, kick, free motion with noise from `seed`, and the verdict.
@@ -199,6 +165,7 @@ pub fn prepare_with(
     let mut x_prev = lat.centroid_x(&cell.phi);
     let mut track = vec![(0.0, x_prev)];
     let mut verdict = Verdict::Ok;
+    let mut watch = BreakupWatch::new();
     let mut verdict_time = None;
     let mut verdict_reason = None;
     let mut done = 0;
@@ -217,7 +184,7 @@ pub fn prepare_with(
         }
         let diverged = !cell.sums.area.is_finite();
         if diverged || n % steps.check_every == 0 || n == steps.free {
-            if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell) {
+            if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell, &mut watch) {
                 verdict = v;
                 verdict_time = Some(t);
                 verdict_reason = Some(why);
@@ -226,7 +193,7 @@ pub fn prepare_with(
         }
     }
     if steps.free == 0 {
-        if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell) {
+        if let Some((v, why)) = check_verdict(&lat, &fibers, params, &cell, &mut watch) {
             verdict = v;
             verdict_time = Some(0.0);
             verdict_reason = Some(why);

@@ -57,6 +57,10 @@ pub struct TrajectoryResult {
     /// written before the collision had a breakup check).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub breakup_reason: Option<String>,
+    /// Drops the cells shed during the collision (SPEC section 5; 0 without a collision, and
+    /// in records written before they were counted, when any second piece was a breakup).
+    #[serde(default)]
+    pub sheddings: u32,
     /// Fiber attachment of cell 1 and cell 2 after the collision.
     pub attachment: Option<[Attachment; 2]>,
     pub collision_steps: u64,
@@ -82,6 +86,7 @@ impl TrajectoryResult {
             contact_time: c.and_then(|c| c.contact_time),
             decision_time: c.and_then(|c| c.decision_time),
             breakup_reason: c.and_then(|c| c.breakup_reason.clone()),
+            sheddings: c.map_or(0, |c| c.sheddings),
             attachment: c.map(|c| c.attachment),
             collision_steps: c.map_or(0, |c| c.steps),
             patch: c.and_then(|c| c.patch),

@@ -15,11 +15,13 @@ use crate::encoding::seed_from_sql;
 use crate::error::Result;
 
 /// Version of the exported columns; bumped on any change to them. Format 2 added the wall
-/// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`.
-/// Older files read with the new columns empty.
-pub const EXPORT_FORMAT: u32 = 3;
+/// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`;
+/// format 4 the drops a collision's cells shed (`sheddings`). Older files read with the new
+/// columns empty (no sheddings: under the rule they were made with, every second piece of 10
+/// sites was a breakup).
+pub const EXPORT_FORMAT: u32 = 4;
 /// The formats this build reads.
-pub const READ_FORMATS: [u32; 3] = [1, 2, 3];
+pub const READ_FORMATS: [u32; 4] = [1, 2, 3, 4];
 
 /// One exported replicate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -60,6 +62,10 @@ pub struct ExportRow {
     /// Why a cell of the collision broke up (outcome `breakup` only).
     #[serde(default)]
     pub breakup_reason: Option<String>,
+    /// Drops the collision's cells shed: second pieces that did not break a cell up (SPEC
+    /// section 5).
+    #[serde(default)]
+    pub sheddings: u32,
 }
 
 /// Prep verdicts, as stored.
@@ -262,7 +268,8 @@ impl Store {
             "SELECT p.alpha, p.beta, p.L, p.sigma, p.params, j.replicate, pr.id, pr.seed, j.seed,
                     r.verdict, r.outcome, r.contact_time, r.decision_time, r.attachment_1,
                     r.attachment_2, r.free_speed, r.threshold_speed, r.collision_steps,
-                    r.solver_version, r.classifier, r.wall_s, pr.wall_s, {reason}
+                    r.solver_version, r.classifier, r.wall_s, pr.wall_s, {reason},
+                    COALESCE(json_extract(r.record, '$.sheddings'), 0)
              FROM results r JOIN jobs j ON j.id = r.job_id JOIN points p ON p.id = j.point_id
              JOIN preps pr ON pr.id = j.prep_id
              WHERE p.sweep_id = ?1 AND r.solver_version = ?2
@@ -307,6 +314,7 @@ impl Store {
                 wall_s: r.get::<_, Option<f64>>(20)?.filter(|&w| w > 0.0),
                 prep_wall_s: r.get::<_, Option<f64>>(21)?.filter(|&w| w > 0.0),
                 breakup_reason: r.get(22)?,
+                sheddings: r.get(23)?,
             });
         }
         Ok(out)
@@ -402,6 +410,7 @@ mod tests {
             wall_s: Some(11.0),
             prep_wall_s: Some(6.5),
             breakup_reason: None,
+            sheddings: 0,
         }
     }
 

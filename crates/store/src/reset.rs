@@ -31,6 +31,8 @@ pub struct Reset {
     pub jobs: usize,
     /// Results deleted with them.
     pub results: usize,
+    /// Preps put back to be computed again ([`Store::reset_breakups`] only).
+    pub preps: usize,
 }
 
 impl Store {
@@ -94,4 +96,119 @@ impl Store {
         tx.commit()?;
         Ok(out)
     }
+
+    /// What [`Store::reset_breakups`] would put back at these points, changing nothing.
+    pub fn count_breakups(&self, version: &str, point_ids: &[i64]) -> Result<Reset> {
+        let t = breakup_targets(&self.conn, version, point_ids)?;
+        let mut out = Reset {
+            points: t.points,
+            preps: t.preps.len(),
+            ..Reset::default()
+        };
+        for &job in &t.jobs {
+            let (has_result, not_pending): (i64, i64) = self.conn.query_row(
+                "SELECT (SELECT COUNT(*) FROM results WHERE job_id = ?1),
+                        (SELECT COUNT(*) FROM jobs WHERE id = ?1 AND state != 'pending')",
+                [job],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )?;
+            out.results += has_result as usize;
+            out.jobs += not_pending as usize;
+        }
+        Ok(out)
+    }
+
+    /// Put back what a change of the breakup rule (SPEC section 5) can change, and nothing
+    /// else, at these points of `version`: every job whose result is a collision that broke
+    /// up, and every prep whose verdict is `breakup` with all the jobs that start from it (in
+    /// any sweep of the store: a prep is shared). One transaction; the caller holds the
+    /// writer lock. The next run computes them again with the same seeds.
+    pub fn reset_breakups(&mut self, version: &str, point_ids: &[i64]) -> Result<Reset> {
+        let tx = self.write()?;
+        let t = breakup_targets(&tx, version, point_ids)?;
+        let mut out = Reset {
+            points: t.points,
+            ..Reset::default()
+        };
+        for &prep in &t.preps {
+            out.preps += tx.execute(
+                "UPDATE preps SET state = 'pending', attempts_at_retry = attempts, error = NULL,
+                     verdict = NULL, verdict_time = NULL, free_speed = NULL, nx = NULL, ny = NULL,
+                     phi = NULL, p = NULL, summary = NULL, wall_s = NULL, finished_at = NULL
+                 WHERE id = ?1",
+                [prep],
+            )?;
+        }
+        for &job in &t.jobs {
+            out.results += tx.execute("DELETE FROM results WHERE job_id = ?1", [job])?;
+            out.jobs += tx.execute(
+                "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts, error = NULL,
+                     started_at = NULL, finished_at = NULL
+                 WHERE id = ?1 AND state != 'pending'",
+                [job],
+            )?;
+        }
+        tx.commit()?;
+        Ok(out)
+    }
+}
+
+/// The jobs and preps a change of the breakup rule can change at these points.
+struct BreakupTargets {
+    /// Jobs to put back: collisions that broke up, and every job of a prep that broke up.
+    jobs: Vec<i64>,
+    /// Preps whose verdict is `breakup`.
+    preps: Vec<i64>,
+    /// Points with a stored breakup.
+    points: usize,
+}
+
+fn breakup_targets(
+    conn: &rusqlite::Connection,
+    version: &str,
+    point_ids: &[i64],
+) -> Result<BreakupTargets> {
+    let mut preps: Vec<i64> = Vec::new();
+    let mut jobs: Vec<i64> = Vec::new();
+    let mut points = 0;
+    let mut broke = conn.prepare(
+        "SELECT j.id, j.prep_id, r.verdict FROM jobs j JOIN results r ON r.job_id = j.id
+         WHERE j.point_id = ?1 AND j.solver_version = ?2
+           AND (r.outcome = 'breakup' OR (r.verdict = 'breakup' AND r.outcome IS NULL))",
+    )?;
+    for &point in point_ids {
+        let rows = broke.query_map(params![point, version], |r| {
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, i64>(1)?,
+                r.get::<_, String>(2)?,
+            ))
+        })?;
+        let before = (jobs.len(), preps.len());
+        for row in rows {
+            let (job, prep, verdict) = row?;
+            match verdict.as_str() {
+                "breakup" => preps.push(prep),
+                _ => jobs.push(job),
+            }
+        }
+        if (jobs.len(), preps.len()) != before {
+            points += 1;
+        }
+    }
+    preps.sort_unstable();
+    preps.dedup();
+    let mut of_prep = conn.prepare("SELECT id FROM jobs WHERE prep_id = ?1")?;
+    for &prep in &preps {
+        for id in of_prep.query_map([prep], |r| r.get::<_, i64>(0))? {
+            jobs.push(id?);
+        }
+    }
+    jobs.sort_unstable();
+    jobs.dedup();
+    Ok(BreakupTargets {
+        jobs,
+        preps,
+        points,
+    })
 }

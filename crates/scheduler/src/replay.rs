@@ -107,10 +107,13 @@ impl PrepCache {
         monitor: &mut dyn Monitor,
         parallel: bool,
     ) -> Result<&Prep, ReplayError> {
-        // The whole parameter set and protocol: more than the prep needs, never less.
+        // Every parameter and the protocol but the two-cell ones (sigma, g: SPEC 4, stages 1
+        // to 3 do not depend on them): more than the prep needs, never less.
+        let mut single = config.params.clone();
+        (single.sigma, single.g) = (0.0, 0.0);
         let key = (
             seed,
-            serde_json::to_string(&(&config.params, &config.protocol)).unwrap_or_default(),
+            serde_json::to_string(&(&single, &config.protocol)).unwrap_or_default(),
         );
         if !self.0.contains_key(&key) {
             let prep = prepare_with(&config.params, &config.protocol, seed, monitor, parallel)?;

@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use cellsweep_scheduler::{plan, Sweep};
 use cellsweep_solver::prep::{initial_circle, kick};
+use cellsweep_solver::resolution::to_lattice;
 use cellsweep_solver::{Cell, Fibers, Lattice, SOLVER_VERSION};
 use cellsweep_store::{MeasuredCost, Store};
 
@@ -19,9 +20,11 @@ fn single_step_s(sweep: &Sweep) -> (f64, f64) {
         (nx * ny) as f64
     };
     let scale = points.iter().map(|p| sites(p) / sites(params)).sum::<f64>() / points.len() as f64;
-    let [nx, ny] = sweep.protocol_for(params).single_lattice;
+    // Measured on the lattice the solver runs: a finer one (resolution k) has k^2 the sites.
+    let (params, protocol) = &to_lattice(params, &sweep.protocol_for(params));
+    let [nx, ny] = protocol.single_lattice;
     let lat = Lattice::new(nx, ny);
-    let fibers = Fibers::new(params, ny);
+    let fibers = Fibers::at_resolution(params, ny, protocol.resolution);
     let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
     kick(&lat, &mut cell);
     let mut best = f64::INFINITY;
@@ -162,8 +165,10 @@ fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Opti
 /// Seconds per prep and per collision, and how they were found: measured in the store where it
 /// has both, else from a single-cell step timed here (a collision at its longest).
 fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, String) {
-    let steps = |t: f64| (t / sweep.params.dt).round();
-    let p = &sweep.protocol_for(&sweep.points()[0]);
+    let first = &sweep.points()[0];
+    // Steps of the lattice the solver runs (dt / k^2 on a finer one).
+    let (params, p) = &to_lattice(first, &sweep.protocol_for(first));
+    let steps = |t: f64| (t / params.dt).round();
     match measured {
         Some(m) if m.prep_s.is_some() && m.collision_s.is_some() => (
             m.prep_s.unwrap_or(0.0),

@@ -71,6 +71,9 @@ pub struct ProtocolFile {
     pub stop_early: Option<bool>,
     pub patch_bound: Option<Real>,
     pub precision: Option<Precision>,
+    /// Resolution k (SPEC section 6): a lattice k times finer, every value still in the
+    /// paper's units.
+    pub resolution: Option<Whole>,
 }
 
 /// `[adaptive]`: replicates in rounds until each point's label is settled.

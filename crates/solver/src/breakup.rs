@@ -31,17 +31,37 @@ struct Piece {
 
 /// The breakup rule applied to one cell check after check: it remembers the second pieces of
 /// the previous check and counts the drops the cell shed.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct BreakupWatch {
+    /// [`MIN_PIECE`] in this lattice's sites (k^2 times more at resolution k).
+    min_piece: usize,
     previous: Vec<Piece>,
     /// Second pieces (of [`MIN_PIECE`] sites or more) that appeared and did not go on to
     /// break the cell up: the drops it shed.
     pub sheddings: u32,
 }
 
+impl Default for BreakupWatch {
+    fn default() -> Self {
+        BreakupWatch::new()
+    }
+}
+
 impl BreakupWatch {
+    /// The watch of a cell on the paper's lattice.
     pub fn new() -> BreakupWatch {
-        BreakupWatch::default()
+        BreakupWatch::at_resolution(1)
+    }
+
+    /// The watch of a cell on a lattice of resolution `k` (SPEC section 6: the 10 sites are
+    /// an area, 10 k^2 sites).
+    pub fn at_resolution(k: u32) -> BreakupWatch {
+        let k = k.max(1) as usize;
+        BreakupWatch {
+            min_piece: MIN_PIECE * k * k,
+            previous: Vec::new(),
+            sheddings: 0,
+        }
     }
 
     /// One check of `cell`: why it broke up, in words, or `None` while it has not.
@@ -56,13 +76,15 @@ impl BreakupWatch {
         }
         let (label, sizes) = pieces(lat, &cell.phi);
         let region: usize = sizes.iter().sum();
-        let big = MIN_PIECE.max((MIN_SHARE * region as f64).ceil() as usize);
+        let big = self
+            .min_piece
+            .max((MIN_SHARE * region as f64).ceil() as usize);
         let main = (0..sizes.len()).max_by_key(|&k| (sizes[k], usize::MAX - k));
         // Every second piece that counts, with its sites.
         let mut slot = vec![usize::MAX; sizes.len()];
         let mut now: Vec<Piece> = Vec::new();
         for (k, &n) in sizes.iter().enumerate() {
-            if Some(k) != main && n >= MIN_PIECE {
+            if Some(k) != main && n >= self.min_piece {
                 slot[k] = now.len();
                 now.push(Piece {
                     sites: Vec::with_capacity(n),
@@ -105,12 +127,13 @@ impl BreakupWatch {
         broke.map(|second| {
             // The piece that broke the cell was counted as a drop when it first appeared.
             self.sheddings = self.sheddings.saturating_sub(1);
-            let mut all: Vec<usize> = sizes.iter().copied().filter(|&n| n >= MIN_PIECE).collect();
+            let min = self.min_piece;
+            let mut all: Vec<usize> = sizes.iter().copied().filter(|&n| n >= min).collect();
             all.sort_unstable_by(|a, b| b.cmp(a));
             let all: Vec<String> = all.iter().map(usize::to_string).collect();
             format!(
-                "the region phi > 0.5 is in {} pieces of 10 or more sites ({} sites): a second \
-                 piece of {second} sites, at least max(10, 5% of {region}) = {big}, at two \
+                "the region phi > 0.5 is in {} pieces of {min} or more sites ({} sites): a second \
+                 piece of {second} sites, at least max({min}, 5% of {region}) = {big}, at two \
                  consecutive checks",
                 all.len(),
                 all.join(", ")

@@ -17,6 +17,7 @@ use crate::patch::{PatchStats, Patches};
 use crate::prep::Prep;
 use crate::protocol::{Precision, Protocol, StageSteps};
 use crate::real::Real;
+use crate::resolution::{classifier_to_lattice, to_lattice};
 
 /// Observables of both cells at one time (SPEC section 5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -34,6 +35,26 @@ pub struct Sample {
     pub overlap: f64,
     /// Adhesive area of each cell on [bottom, top] fiber.
     pub adhesive: [[f64; 2]; 2],
+}
+
+impl Sample {
+    /// The sample of a lattice of resolution `k` in the paper's units (l0, l0^2); the same at
+    /// k = 1.
+    pub fn in_paper_units(self, k: u32) -> Sample {
+        if k <= 1 {
+            return self;
+        }
+        let (l, a) = (f64::from(k), f64::from(k * k));
+        Sample {
+            t: self.t,
+            xbar: self.xbar.map(|x| x / l),
+            x: self.x.map(|x| x / l),
+            ybar: self.ybar.map(|y| y / l),
+            area: self.area.map(|s| s / a),
+            overlap: self.overlap / a,
+            adhesive: self.adhesive.map(|f| f.map(|s| s / a)),
+        }
+    }
 }
 
 /// What happened in one collision.
@@ -116,6 +137,10 @@ pub fn collide(
     monitor: &mut dyn Monitor,
     parallel: bool,
 ) -> Result<Collision, SolverError> {
+    // On a finer lattice, everything in its units (the same values at k = 1).
+    let (params, protocol) = &to_lattice(params, protocol);
+    let k = protocol.resolution;
+    let settings = &classifier_to_lattice(settings, k);
     let steps = protocol.validate(params)?;
     if prep.lattice != protocol.single_lattice
         || prep.phi.len() != prep.lattice[0] * prep.lattice[1]
@@ -127,7 +152,7 @@ pub fn collide(
     }
     let [nx, ny] = protocol.pair_lattice;
     let lat = Lattice::new(nx, ny);
-    let fibers = Fibers::new(params, ny);
+    let fibers = Fibers::at_resolution(params, ny, k);
     let [(phi1, p1), (phi2, p2)] = place_pair(prep, nx);
     let mut a = Cell::new(&lat, &fibers, phi1, p1);
     let mut b = Cell::new(&lat, &fibers, phi2, p2);
@@ -144,7 +169,9 @@ pub fn collide(
         fibers: &fibers,
         parallel,
     };
-    let mut classifier = Classifier::new(settings, prep.free_speed.unwrap_or(0.0), params.R0);
+    // The prep's free speed is in l0 / tau0; the classifier works in this lattice's sites.
+    let free_speed = prep.free_speed.unwrap_or(0.0) * f64::from(k);
+    let mut classifier = Classifier::new(settings, free_speed, params.R0);
     let ended = match protocol.precision {
         Precision::F64 => run.steps(a, b, &mut classifier, seed, monitor)?,
         Precision::F32 => {
@@ -172,12 +199,12 @@ pub fn collide(
             Attachment::of(&fibers, &at_decision[0]),
             Attachment::of(&fibers, &at_decision[1]),
         ],
-        threshold_speed: classifier.threshold_speed(),
+        threshold_speed: classifier.threshold_speed() / f64::from(k),
         breakup_reason,
         sheddings,
         steps: done,
         patch,
-        track,
+        track: track.into_iter().map(|s| s.in_paper_units(k)).collect(),
     })
 }
 
@@ -234,7 +261,11 @@ impl Run<'_> {
             classifier.observe(0.0, first.x[0], first.x[1], first.overlap);
         let mut at_decision: [Sums; 2] = [a.sums, b.sums];
         let mut broke: Option<String> = None;
-        let mut watch = [BreakupWatch::new(), BreakupWatch::new()];
+        let k = self.protocol.resolution;
+        let mut watch = [
+            BreakupWatch::at_resolution(k),
+            BreakupWatch::at_resolution(k),
+        ];
         let mut track = vec![first];
 
         monitor.stage(Stage::Collide, steps.collide);

@@ -26,20 +26,29 @@ impl Fibers {
     /// One fiber: rows Ny/2 - 1 and Ny/2. Two fibers at spacing L: rows Ny/2 - L/2 - 1,
     /// Ny/2 - L/2 (bottom) and Ny/2 + L/2 - 1, Ny/2 + L/2 (top).
     pub fn new(params: &Params, ny: usize) -> Self {
+        Fibers::at_resolution(params, ny, 1)
+    }
+
+    /// The fibers on a lattice of resolution `k` (SPEC section 6; `params` in its units, L in
+    /// its sites): each fiber 2k rows, Ny/2 - L/2 - k to Ny/2 - L/2 + k - 1 and Ny/2 + L/2 - k
+    /// to Ny/2 + L/2 + k - 1 (one fiber: Ny/2 - k to Ny/2 + k - 1). At k = 1, [`Fibers::new`].
+    pub fn at_resolution(params: &Params, ny: usize, k: u32) -> Self {
         let mut row_fiber = vec![None; ny];
-        let h = ny / 2;
+        let (h, k) = (ny / 2, k.max(1) as usize);
+        let mut lay = |centre: usize, fiber: Fiber| {
+            for row in &mut row_fiber[centre - k..centre + k] {
+                *row = Some(fiber);
+            }
+        };
         let count = match params.geometry {
             Geometry::One => {
-                row_fiber[h - 1] = Some(Fiber::Bottom);
-                row_fiber[h] = Some(Fiber::Bottom);
+                lay(h, Fiber::Bottom);
                 1
             }
             Geometry::Two => {
                 let half = params.L as usize / 2;
-                row_fiber[h - half - 1] = Some(Fiber::Bottom);
-                row_fiber[h - half] = Some(Fiber::Bottom);
-                row_fiber[h + half - 1] = Some(Fiber::Top);
-                row_fiber[h + half] = Some(Fiber::Top);
+                lay(h - half, Fiber::Bottom);
+                lay(h + half, Fiber::Top);
                 2
             }
         };

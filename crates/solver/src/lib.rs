@@ -34,6 +34,7 @@ pub mod patch;
 pub mod prep;
 pub mod protocol;
 pub mod real;
+pub mod resolution;
 pub mod seed;
 pub mod trajectory;
 

@@ -35,6 +35,25 @@ pub struct FieldSummary {
 }
 
 impl FieldSummary {
+    /// The summary of a lattice of resolution `k` in the paper's units (areas in l0^2,
+    /// positions in l0); the same at k = 1.
+    pub fn in_paper_units(self, k: u32) -> FieldSummary {
+        if k <= 1 {
+            return self;
+        }
+        let (l, a) = (f64::from(k), f64::from(k * k));
+        FieldSummary {
+            sum_phi: self.sum_phi / a,
+            area: self.area / a,
+            adhesive_area: self.adhesive_area / a,
+            adhesive_area_bottom: self.adhesive_area_bottom / a,
+            adhesive_area_top: self.adhesive_area_top / a,
+            xbar: self.xbar / l,
+            ybar: self.ybar / l,
+            ..self
+        }
+    }
+
     pub fn of(lat: &Lattice, fibers: &Fibers, phi: &[f64], steps: u64) -> Self {
         let sums = Sums::of(lat, fibers, phi);
         let (bottom, top) = if fibers.count() == 1 {

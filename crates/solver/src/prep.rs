@@ -13,6 +13,7 @@ use crate::noise::Noise;
 use crate::observables::{FieldSummary, LET_GO_FRACTION};
 use crate::params::{Geometry, Params};
 use crate::protocol::Protocol;
+use crate::resolution::to_lattice;
 
 /// The verdict on a prepped cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -151,10 +152,13 @@ pub fn prepare_with(
     monitor: &mut dyn Monitor,
     parallel: bool,
 ) -> Result<Prep, SolverError> {
+    // On a finer lattice, everything in its units (the same values at k = 1).
+    let (params, protocol) = &to_lattice(params, protocol);
+    let k = protocol.resolution;
     let steps = protocol.validate(params)?;
     let [nx, ny] = protocol.single_lattice;
     let lat = Lattice::new(nx, ny);
-    let fibers = Fibers::new(params, ny);
+    let fibers = Fibers::at_resolution(params, ny, k);
 
     let mut cell = relax(params, &lat, &fibers, steps.relax, monitor, parallel);
     let relaxed = FieldSummary::of(&lat, &fibers, &cell.phi, steps.relax);
@@ -165,7 +169,7 @@ pub fn prepare_with(
     let mut x_prev = lat.centroid_x(&cell.phi);
     let mut track = vec![(0.0, x_prev)];
     let mut verdict = Verdict::Ok;
-    let mut watch = BreakupWatch::new();
+    let mut watch = BreakupWatch::at_resolution(k);
     let mut verdict_time = None;
     let mut verdict_reason = None;
     let mut done = 0;
@@ -199,15 +203,17 @@ pub fn prepare_with(
             verdict_reason = Some(why);
         }
     }
-    let free_speed = speed_over_second_half(&track, steps.free as f64 * params.dt);
+    // Speeds and summaries in the paper's units (l0, l0^2).
+    let free_speed =
+        speed_over_second_half(&track, steps.free as f64 * params.dt).map(|v| v / f64::from(k));
     Ok(Prep {
         seed,
         verdict,
         verdict_time,
         verdict_reason,
         free_speed: free_speed.filter(|v| v.is_finite()),
-        relaxed,
-        prepped: FieldSummary::of(&lat, &fibers, &cell.phi, done),
+        relaxed: relaxed.in_paper_units(k),
+        prepped: FieldSummary::of(&lat, &fibers, &cell.phi, done).in_paper_units(k),
         lattice: [nx, ny],
         phi: cell.phi,
         p: cell.p,

@@ -31,6 +31,16 @@ pub struct Protocol {
     pub patch: PatchSettings,
     /// Floating-point type of the collision stage (the prep always runs in f64).
     pub precision: Precision,
+    /// Resolution k of the lattice (SPEC section 6): l0' = l0 / k, every parameter and the
+    /// lattices given in the paper's units and converted (`crate::resolution`). 1: the paper's.
+    #[serde(skip_serializing_if = "is_one")]
+    pub resolution: u32,
+}
+
+/// Whether `k` is 1 (the paper's resolution is left out of stored definitions, so that they
+/// read as they did before resolutions existed).
+fn is_one(k: &u32) -> bool {
+    *k == 1
 }
 
 /// The float the collision stage runs in. f64 is the default and the reference; f32 halves
@@ -77,6 +87,7 @@ impl Default for Protocol {
             stop_early: true,
             patch: PatchSettings::default(),
             precision: Precision::F64,
+            resolution: 1,
         }
     }
 }
@@ -110,6 +121,13 @@ pub struct StageSteps {
 impl Protocol {
     /// Validate the lattices and durations against the parameters; return the step counts.
     pub fn validate(&self, params: &Params) -> Result<StageSteps, ParamError> {
+        if !(1..=8).contains(&self.resolution) {
+            return Err(ParamError::OutOfRange {
+                name: "resolution",
+                value: f64::from(self.resolution),
+                range: "1..=8 (a whole number: l0' = l0 / k)",
+            });
+        }
         let [snx, sny] = self.single_lattice;
         let [pnx, pny] = self.pair_lattice;
         for (name, nx, ny) in [("single_lattice", snx, sny), ("pair_lattice", pnx, pny)] {

@@ -19,6 +19,7 @@
 //! collide_time = 400
 //! patch_bound = 1e-8                       # per-cell windows in the collision; 0: whole lattice
 //! precision = "f64"                        # collision float type: "f64" (default) or "f32"
+//! resolution = 2                           # a lattice k times finer (SPEC 6), values in l0
 //! [classifier]                             # optional: classifier settings
 //! sustain_window = 25
 //! [adaptive]                               # optional: replicates in rounds until settled
@@ -332,6 +333,9 @@ fn protocol(p: ProtocolFile, cx: &Ctx) -> Result<Protocol, SweepError> {
     set(p.patch_bound, &mut out.patch.bound);
     out.stop_early = p.stop_early.unwrap_or(out.stop_early);
     out.precision = p.precision.unwrap_or(out.precision);
+    if let Some(k) = p.resolution {
+        out.resolution = cx.whole(k, "protocol.resolution", 1, 8)? as u32;
+    }
     Ok(out)
 }
 

@@ -104,7 +104,8 @@ impl BreakupWatch {
                 before[s] = k as u32;
             }
         }
-        let mut broke = None;
+        // The largest piece that lasted big, and how many did.
+        let (mut broke, mut broken) = (None::<usize>, 0);
         for p in &now {
             let mut seen = p
                 .sites
@@ -119,14 +120,15 @@ impl BreakupWatch {
                 .into_iter()
                 .chain(seen)
                 .any(|k| self.previous[k as usize].big);
-            if p.big && lasted_big && broke.is_none() {
-                broke = Some(p.sites.len());
+            if p.big && lasted_big {
+                broken += 1;
+                broke = broke.max(Some(p.sites.len()));
             }
         }
         self.previous = now;
         broke.map(|second| {
-            // The piece that broke the cell was counted as a drop when it first appeared.
-            self.sheddings = self.sheddings.saturating_sub(1);
+            // The pieces that broke the cell were counted as drops when they first appeared.
+            self.sheddings = self.sheddings.saturating_sub(broken);
             let min = self.min_piece;
             let mut all: Vec<usize> = sizes.iter().copied().filter(|&n| n >= min).collect();
             all.sort_unstable_by(|a, b| b.cmp(a));

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Rerun what a change of the breakup rule can change in committed exports, and nothing else
+# (SPEC section 5, docs/model.md): import the exports of one sweep file into a fresh store
+# (every prep recomputed and checked), put back the stored breakups (`reset --breakups`), run
+# the sweep again (the rest keeps its results; adaptive points grow as their rule says), and
+# export it over the file. Resumable: run it again after any stop (an existing store is reused).
+#
+# Usage: scripts/rerun-breakups.sh STORE_DIR SWEEP_FILE EXPORT... (the exports of that sweep,
+# e.g. sweeps/refined/L70-sigma5.toml data/paper/refined-L70-sigma5.csv). CELLSWEEP names the
+# binary; WORKERS the number of workers (2).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+dir=${1:?usage: rerun-breakups.sh STORE_DIR SWEEP_FILE EXPORT...}
+sweep_file=${2:?usage: rerun-breakups.sh STORE_DIR SWEEP_FILE EXPORT...}
+shift 2
+exe=${CELLSWEEP:-target/release/cellsweep}
+mkdir -p "$dir"
+name=$(sed -n 's/^name = "\(.*\)"/\1/p' "$sweep_file")
+for export in "$@"; do
+  db="$dir/$(basename "$export" .csv).sqlite"
+  if [ ! -e "$db.imported" ]; then
+    rm -f "$db" "$db.lock"
+    "$exe" import "$export" --db "$db"
+    "$exe" reset --db "$db" --sweep "$name" --breakups
+    touch "$db.imported"
+  fi
+  "$exe" run "$sweep_file" --db "$db" --workers "${WORKERS:-2}"
+  "$exe" export --db "$db" --sweep "$name" --out "$export.tmp"
+  mv "$export.tmp" "$export"
+done

@@ -96,7 +96,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
     assert!(lines
         .next()
         .unwrap()
-        .starts_with("# cellsweep export format 3"));
+        .starts_with("# cellsweep export format 4"));
     assert!(lines.next().unwrap().starts_with("# spec {"));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|c| *c == name).unwrap();

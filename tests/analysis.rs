@@ -315,3 +315,126 @@ fn converge_names_what_a_variant_changes_and_reads_each_column_of_both() {
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("/nonexistent.csv"), "{err}");
 }
+
+/// `text` (an export) with each row's `prep_extent` set by `extent(alpha, beta)`: a column
+/// added, or the one it has replaced.
+fn with_extents(text: &str, extent: &dyn Fn(&str, f64) -> f64) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    let mut columns: Option<Vec<String>> = None;
+    for line in text.lines() {
+        if line.starts_with('#') {
+            lines.push(line.to_string());
+            continue;
+        }
+        let Some(names) = &columns else {
+            let names: Vec<String> = line.split(',').map(String::from).collect();
+            let mut header = names.clone();
+            if !names.iter().any(|n| n == "prep_extent") {
+                header.push("prep_extent".into());
+            }
+            lines.push(header.join(","));
+            columns = Some(header);
+            continue;
+        };
+        let mut record = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(line.as_bytes());
+        let cells: Vec<String> = record
+            .records()
+            .next()
+            .unwrap()
+            .unwrap()
+            .iter()
+            .map(String::from)
+            .collect();
+        let at = |name: &str| names.iter().position(|n| n == name).unwrap();
+        let mut cells = cells;
+        cells.resize(names.len(), String::new());
+        let e = extent(&cells[at("alpha")], cells[at("beta")].parse().unwrap());
+        cells[at("prep_extent")] = e.to_string();
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(Vec::new());
+        w.write_record(&cells).unwrap();
+        lines.push(
+            String::from_utf8(w.into_inner().unwrap())
+                .unwrap()
+                .trim_end()
+                .to_string(),
+        );
+    }
+    lines.join("\n") + "\n"
+}
+
+/// SPEC 4.5: a point whose prepped cell is longer than 0.65 of its box is marked in `table`
+/// (text, JSON) and `fit` gives the line without it too. The paper's L70 sigma5 export, with
+/// the prep's extent written into its rows: 158 l0 at (0.1, 34), 100 elsewhere.
+#[test]
+fn box_limited_points_are_marked_and_the_line_is_given_without_them() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = workdir("box-limited");
+    let text = std::fs::read_to_string(root.join("data/paper/refined-L70-sigma5.csv")).unwrap();
+    let long = |a: &str, b: f64| {
+        if a == "0.1" && b == 34.0 {
+            158.0
+        } else {
+            100.0
+        }
+    };
+    std::fs::write(dir.join("boxed.csv"), with_extents(&text, &long)).unwrap();
+    std::fs::write(dir.join("short.csv"), with_extents(&text, &|_, _| 100.0)).unwrap();
+    let file = dir.join("boxed.csv");
+    let data = file.to_str().unwrap();
+    let out = cellsweep(&["table", "--data", data]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Point rows (the legend under the grid says what [box] means).
+    let marked: Vec<&str> = said
+        .lines()
+        .filter(|l| l.contains("[box]") && !l.starts_with("[box]"))
+        .collect();
+    assert_eq!(marked.len(), 1, "{said}");
+    let cells: Vec<&str> = marked[0].split_whitespace().collect();
+    assert_eq!((cells[0], cells[1]), ("0.1", "34"), "{}", marked[0]);
+    assert!(
+        said.contains("box-limited: a prepped cell longer than 0.65"),
+        "{said}"
+    );
+    let out = cellsweep(&["table", "--data", data, "--format", "json"]);
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let flagged: Vec<(f64, f64)> = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["box_limited"] == true)
+        .map(|r| (r["alpha"].as_f64().unwrap(), r["beta"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(flagged, [(0.1, 34.0)]);
+    let fit = |file: &str| -> serde_json::Value {
+        let path = dir.join(file);
+        let args = ["fit", "--data", path.to_str().unwrap(), "--format", "json"];
+        let out = cellsweep(&[&args[..], &["--bootstrap", "50"]].concat());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let boxed = fit("boxed.csv");
+    assert_eq!(boxed["box_limited_points"], 1);
+    let without = &boxed["without_box_limited"];
+    assert!(
+        without["a"].is_number() && without["b"].is_number(),
+        "{without}"
+    );
+    // No cell long enough: nothing flagged, no second line.
+    let short = fit("short.csv");
+    assert_eq!(short["box_limited_points"], 0);
+    assert!(short.get("without_box_limited").is_none());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

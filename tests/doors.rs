@@ -366,7 +366,7 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
             vec!["--point", "alpha=0.1,alpha=0.12"],
             "alpha is given twice",
         ),
-        (vec![], "say which points to put back"),
+        (vec![], "say what to put back"),
     ] {
         let mut a = vec!["reset", "--db", "r.sqlite"];
         a.extend(args);

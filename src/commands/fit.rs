@@ -104,10 +104,47 @@ pub fn run(args: FitArgs) -> anyhow::Result<i32> {
         method,
     ) {
         Ok(fit) => {
+            // SPEC 4.5: the line with and without the box-limited points.
+            let boxed = loaded.counts.iter().filter(|c| c.box_limited).count();
+            let without = (boxed > 0).then(|| {
+                let kept: Vec<_> = loaded
+                    .counts
+                    .iter()
+                    .filter(|c| !c.box_limited)
+                    .cloned()
+                    .collect();
+                fit_line(
+                    &kept,
+                    &loaded.scales,
+                    args.bootstrap as usize,
+                    args.seed,
+                    method,
+                )
+            });
             if args.format == FitFormat::Json {
-                println!("{}", serde_json::to_string_pretty(&fit)?);
+                let mut out = serde_json::to_value(&fit)?;
+                out["box_limited_points"] = json!(boxed);
+                if let Some(w) = &without {
+                    out["without_box_limited"] = match w {
+                        Ok(f) => serde_json::to_value(f)?,
+                        Err(no) => json!({ "error": no.reason }),
+                    };
+                }
+                println!("{}", serde_json::to_string_pretty(&out)?);
             } else {
                 print_fit(&fit, &loaded.name);
+                match &without {
+                    Some(Ok(f)) => println!(
+                        "without the {boxed} box-limited points (SPEC 4.5): a = {:.4} [{:.4}, \
+                         {:.4}], b = {:.3} [{:.3}, {:.3}]",
+                        f.a, f.a_ci[0], f.a_ci[1], f.b, f.b_ci[0], f.b_ci[1]
+                    ),
+                    Some(Err(no)) => println!(
+                        "without the {boxed} box-limited points (SPEC 4.5): no line ({})",
+                        no.reason
+                    ),
+                    None => {}
+                }
             }
             Ok(0)
         }

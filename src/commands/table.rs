@@ -6,7 +6,9 @@ use serde_json::json;
 
 use crate::cli::{Format, TableArgs};
 
-use cellsweep_report::text::{fraction_cell, fractions, grids_text, share_ends, LEGEND};
+use cellsweep_report::text::{
+    fraction_cell, fractions, grids_text, share_ends, BOX_LEGEND, LEGEND,
+};
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
     let loaded = args.select.apply(args.source.load()?)?;
@@ -33,7 +35,12 @@ fn standing_of(standings: Option<&[Assessment]>, i: usize) -> Option<&Assessment
 fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
     print!("{}", grids_text(counts));
-    println!("{LEGEND}\n");
+    println!("{LEGEND}");
+    let boxed = counts.iter().filter(|c| c.box_limited).count();
+    if boxed > 0 {
+        println!("{BOX_LEGEND} ({boxed} points)");
+    }
+    println!();
     let mut head = format!(
         "{:>6} {:>6} {:>4} {:>5} {:>4} ",
         "alpha", "beta", "L", "sigma", "n"
@@ -59,7 +66,9 @@ fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
         let st = standing(i).map_or(String::new(), |a| {
             format!("  {:<9} (at n = {})", a.standing.as_str(), a.n)
         });
-        print!("{line}  {:<12}{st}", c.label().map_or("-", Label::as_str));
+        let label = c.label().map_or("-", Label::as_str);
+        let boxed = if c.box_limited { " [box]" } else { "" };
+        print!("{line}  {:<12}{st}", format!("{label}{boxed}"));
         if !c.others.is_empty() {
             print!("  {}", c.others);
         }
@@ -85,7 +94,7 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
     for f in share_ends().map(End::name) {
         header += &format!(",f_{f},f_{f}_low,f_{f}_high");
     }
-    header += ",free_speed,label";
+    header += ",free_speed,label,box_limited,sheddings";
     if standings.is_some() {
         header += ",standing,assessed_n";
         for f in share_ends().map(End::name) {
@@ -131,7 +140,10 @@ fn print_csv(counts: &[Counts], standings: Option<&[Assessment]>) {
                 st += &pair.map_or(",,".into(), |[lo, hi]| format!(",{lo:.6},{hi:.6}"));
             }
         }
-        println!("{row},{speed},{label}{st}");
+        println!(
+            "{row},{speed},{label},{},{}{st}",
+            c.box_limited, c.sheddings
+        );
     }
 }
 
@@ -165,6 +177,10 @@ fn print_json(counts: &[Counts], standings: Option<&[Assessment]>) -> anyhow::Re
             for (e, k) in c.tally.iter() {
                 row[e.count_key()] = json!(k);
             }
+            if c.box_limited {
+                row["box_limited"] = json!(true);
+            }
+            row["sheddings"] = json!(c.sheddings);
             // A sweep's other axes, each a key beside sigma's.
             for (name, v) in &c.others.0 {
                 row[name] = json!(v);

@@ -18,6 +18,9 @@ pub struct Point {
     pub n: u64,
     /// An adaptive point that takes more rounds (its mark may still change).
     pub open: bool,
+    /// A box-limited point (SPEC 4.5: its outcome depends on the pair lattice): a square
+    /// drawn round its mark.
+    pub boxed: bool,
     /// The point's counts and intervals in words: the SVG's tooltip (`<title>`).
     pub detail: String,
 }
@@ -139,6 +142,9 @@ fn point_shapes(p: &Panel, pt: &Point, k: usize, cw: f64, (b0, b1): (f64, f64)) 
         if let Some(m) = pt.mark {
             draw_mark(&mut shapes, m, x, y, r);
         }
+        if pt.boxed {
+            box_round(&mut shapes, x, y, r);
+        }
         // Replicates per point, lower right of the mark; '+': an open adaptive point. Cells
         // too thin for it (refined values) leave it to the tooltip.
         if ch >= 10.0 {
@@ -201,6 +207,19 @@ fn colour_bar(fig: &mut Figure, bx: f64, by0: f64, bh: f64) {
     fig.text(bx - 2.0, by0 - 12.0, 12.0, Anchor::Start, "frequency");
 }
 
+/// The square drawn round a box-limited point's mark (of radius `r`, centred at x, y).
+fn box_round(fig: &mut Figure, x: f64, y: f64, r: f64) {
+    let side = 2.0 * r + 4.0;
+    fig.push(Shape::Rect {
+        x: x - side / 2.0,
+        y: y - side / 2.0,
+        w: side,
+        h: side,
+        fill: None,
+        stroke: Some(Color::GREY),
+    });
+}
+
 /// The legend from height `y` down: the symbols present and grey cells if any; the lines on a
 /// second row; a third explains n.
 fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
@@ -211,6 +230,12 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
             fig.text(x + 14.0, y, 12.0, Anchor::Start, m.name());
             x += 34.0 + text_width(m.name(), 12.0);
         }
+    }
+    if d.points.iter().any(|p| p.boxed) {
+        box_round(fig, x, y - 5.0, 7.0);
+        let label = "box-limited (SPEC 4.5)";
+        fig.text(x + 14.0, y, 12.0, Anchor::Start, label);
+        x += 34.0 + text_width(label, 12.0);
     }
     if d.points
         .iter()

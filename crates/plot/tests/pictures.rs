@@ -15,6 +15,7 @@ fn diagram() -> Diagram {
             freq: [0.2, 0.7, 0.1],
             n: 96,
             open: k == 0,
+            boxed: k == 1,
             detail: format!("point {k}: n = 96 & <counts>"),
         });
     }
@@ -59,6 +60,7 @@ fn phase_diagrams_are_valid_svg_with_symbols_heat_maps_and_dashed_lines() {
         "coexistence",
         "unstable",
         "breakup",
+        "box-limited (SPEC 4.5)",
     ] {
         assert!(svg.contains(name), "legend names {name}");
     }

@@ -92,6 +92,7 @@ pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagra
                 freq: [f(c.n_train()), f(c.n_walk()), f(c.tally[End::Reversal])],
                 n: c.total(),
                 open: a.is_some_and(|a| a.standing == Standing::Open),
+                boxed: c.box_limited,
                 detail: detail(c, a),
             }
         })

@@ -8,7 +8,7 @@ use cellsweep_scheduler::export_file::{read_export, ExportFileError};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_stats::adaptive::{assess, kinds, PointEnds};
-use cellsweep_stats::{Axes, Counts, End, Label, PerEnd, Scales, Tally};
+use cellsweep_stats::{box_limited, Axes, Counts, End, Label, PerEnd, Scales, Tally};
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::{Store, StoreError};
 
@@ -105,7 +105,19 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
             }
         }
     }
-    let counts = counts_of(&ends, &speeds);
+    let mut counts = counts_of(&ends, &speeds);
+    // SPEC 4.5: a point is box-limited where one of its prepped cells is, on its own lattices;
+    // and the drops its collisions shed.
+    for (r, at) in rows.iter().zip(&axes) {
+        if let Some(i) = index.of(at) {
+            counts[i].sheddings += u64::from(r.sheddings);
+            if let Some(extent) = r.prep_extent {
+                let protocol = sweep.protocol_for(&points[i]);
+                let [single, pair] = [protocol.single_lattice[0], protocol.pair_lattice[0]];
+                counts[i].box_limited |= box_limited(extent, single as f64, pair as f64);
+            }
+        }
+    }
     let standings = sweep
         .adaptive
         .map(|rule| assess(&ends, &rule, kinds(sweep.preps_per_point)));
@@ -343,6 +355,8 @@ impl CountsColumns {
             others: Default::default(),
             tally: self.tally(row)?,
             verdict,
+            box_limited: false,
+            sheddings: 0,
             free_speed: self
                 .free_speed
                 .and_then(|c| row.cell(c).parse().ok())

@@ -86,6 +86,10 @@ pub const LEGEND: &str =
     "legend: * walk_past  x train  + reversal  *x coexist (walk-past and training within 10%)  \
                           . unstable  <> breakup  ? undetermined  ~ mixed";
 
+/// What `[box]` beside a label means (SPEC section 4.5).
+pub const BOX_LEGEND: &str = "[box] box-limited: a prepped cell longer than 0.65 of its box (the \
+     fronts start less than 0.35 Nx_s apart; SPEC 4.5): the outcome depends on the pair lattice";
+
 /// Outcome counts of each point of a sweep, one line per point.
 pub fn point_counts_text(points: &[PointCounts], name: &str, version: &str) -> String {
     let mut s = String::new();

@@ -142,14 +142,9 @@ fn counts_of(rs: &[&Replicate]) -> Tally {
 
 fn label_of(c: &Tally, first: &Replicate) -> Option<Label> {
     Counts {
-        alpha: first.alpha,
-        beta: first.beta,
-        L: first.L,
-        sigma: first.sigma,
         others: first.others.clone(),
         tally: *c,
-        verdict: None,
-        free_speed: None,
+        ..Counts::none(first.alpha, first.beta, first.L, first.sigma)
     }
     .label()
 }

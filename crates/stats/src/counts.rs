@@ -88,6 +88,17 @@ pub struct Counts {
     pub verdict: Option<Label>,
     /// Mean free speed of the point's prepped cells, where known.
     pub free_speed: Option<f64>,
+    /// Whether a prepped cell of the point is box-limited (SPEC section 4.5; unknown, so
+    /// false, where the prep's extent is not known).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub box_limited: bool,
+    /// Drops the point's collisions shed (SPEC section 5: counted, not labelled).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub sheddings: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl Counts {
@@ -104,6 +115,8 @@ impl Counts {
             tally: Tally::default(),
             verdict: None,
             free_speed: None,
+            box_limited: false,
+            sheddings: 0,
         }
     }
 

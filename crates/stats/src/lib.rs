@@ -30,6 +30,7 @@
 pub mod adaptive;
 pub mod axes;
 pub mod binomial;
+pub mod box_limit;
 pub mod column_model;
 pub mod column_shift;
 pub mod compare;
@@ -48,6 +49,7 @@ pub mod throughput;
 pub use adaptive::{assess, AdaptiveRule, Assessment, Bounds, PointEnds, Standing};
 pub use axes::{Axes, ColumnKey, Others, PointKey};
 pub use binomial::clopper_pearson;
+pub use box_limit::box_limited;
 pub use column_model::{falls_back, fit_column, ColumnModel, NoModelCrossing, WalkTrain};
 pub use column_shift::{column_shifts, ColumnShift, ColumnShifts};
 pub use compare::{compare, Comparison, PointComparison, Test};

@@ -11,12 +11,13 @@ use cellsweep_stats::{Axes, End, Others};
 
 use crate::database::Store;
 use crate::digest::fnv1a;
-use crate::encoding::seed_from_sql;
+use crate::encoding::{bytes_to_f64s, seed_from_sql};
 use crate::error::Result;
 
 /// Version of the exported columns; bumped on any change to them. Format 2 added the wall
 /// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`;
-/// format 4 the drops a collision's cells shed (`sheddings`). Older files read with the new
+/// format 4 the drops a collision's cells shed (`sheddings`) and the prepped cell's extent
+/// along x (`prep_extent`, for box-limited points, SPEC 4.5). Older files read with the new
 /// columns empty (no sheddings: under the rule they were made with, every second piece of 10
 /// sites was a breakup).
 pub const EXPORT_FORMAT: u32 = 4;
@@ -66,6 +67,10 @@ pub struct ExportRow {
     /// section 5).
     #[serde(default)]
     pub sheddings: u32,
+    /// The prepped cell's extent along x in l0: the columns of its lattice holding a site with
+    /// phi > 0.5 (over k at resolution k). Empty in files written before it was exported.
+    #[serde(default)]
+    pub prep_extent: Option<f64>,
 }
 
 /// Prep verdicts, as stored.
@@ -276,6 +281,7 @@ impl Store {
              ORDER BY p.idx, j.replicate"
         ))?;
         let mut hashes: HashMap<i64, String> = HashMap::new();
+        let mut extents: HashMap<i64, Option<f64>> = HashMap::new();
         let mut out = Vec::new();
         let mut rows = q.query(params![sweep_id, version])?;
         while let Some(r) = rows.next()? {
@@ -283,6 +289,13 @@ impl Store {
             let prep_id: i64 = r.get(6)?;
             if let std::collections::hash_map::Entry::Vacant(e) = hashes.entry(prep_id) {
                 e.insert(self.prep_hash(prep_id)?);
+            }
+            if let std::collections::hash_map::Entry::Vacant(e) = extents.entry(prep_id) {
+                let k = config["protocol"]["resolution"]
+                    .as_u64()
+                    .unwrap_or(1)
+                    .max(1);
+                e.insert(self.prep_extent(prep_id)?.map(|n| n as f64 / k as f64));
             }
             out.push(ExportRow {
                 sweep: name.clone(),
@@ -315,6 +328,7 @@ impl Store {
                 prep_wall_s: r.get::<_, Option<f64>>(21)?.filter(|&w| w > 0.0),
                 breakup_reason: r.get(22)?,
                 sheddings: r.get(23)?,
+                prep_extent: extents[&prep_id],
             });
         }
         Ok(out)
@@ -350,6 +364,30 @@ impl Store {
 }
 
 impl Store {
+    /// A done prep's extent along x in its lattice's sites: the columns holding a site with
+    /// phi > 0.5 (None for a prep that is not done).
+    pub fn prep_extent(&self, prep_id: i64) -> Result<Option<usize>> {
+        let fields: Option<(Vec<u8>, Option<i64>)> = self
+            .conn
+            .query_row(
+                "SELECT phi, nx FROM preps WHERE id = ?1 AND state = 'done'",
+                [prep_id],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .optional()?;
+        Ok(fields.and_then(|(phi, nx)| {
+            let nx = usize::try_from(nx?).ok().filter(|&n| n > 0)?;
+            let phi = bytes_to_f64s(&phi);
+            let mut held = vec![false; nx];
+            for (s, v) in phi.iter().enumerate() {
+                if *v > 0.5 {
+                    held[s % nx] = true;
+                }
+            }
+            Some(held.iter().filter(|&&h| h).count())
+        }))
+    }
+
     /// The job of a sweep's point and replicate under `version`, if any: the point at `axes`,
     /// its other axes read by `others_of` out of each candidate point's configuration JSON.
     pub fn job_at(
@@ -411,6 +449,7 @@ mod tests {
             prep_wall_s: Some(6.5),
             breakup_reason: None,
             sheddings: 0,
+            prep_extent: Some(72.0),
         }
     }
 

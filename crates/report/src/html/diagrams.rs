@@ -60,6 +60,27 @@ pub(super) fn diagram_summary(s: &Shown<'_>) -> String {
             broke.join(", ")
         );
     }
+    // SPEC 4.5: box-limited points, counted and named.
+    let boxed: Vec<String> = s
+        .counts()
+        .filter(|c| c.box_limited)
+        .map(|c| format!("(α {}, β {})", c.alpha, c.beta))
+        .collect();
+    if !boxed.is_empty() {
+        out += &format!(
+            "; {} box-limited points (a prepped cell longer than 0.65 of its box: the outcome \
+             depends on the pair lattice, SPEC 4.5): {}",
+            boxed.len(),
+            boxed.join(", ")
+        );
+    }
+    let shed: u64 = s.counts().map(|c| c.sheddings).sum();
+    if shed > 0 {
+        out += &format!(
+            "; {shed} drops shed in its collisions (second pieces under 5% of a cell or \
+             passing: counted, not a breakup, SPEC 5)"
+        );
+    }
     out
 }
 

@@ -1,5 +1,7 @@
 //! Errors of sweep files and of running sweeps.
 
+use std::time::Duration;
+
 use thiserror::Error;
 
 /// A sweep file that cannot be used: names the file, the key and the problem, on one line.
@@ -128,7 +130,7 @@ pub enum SlurmError {
     Refused(String),
     /// squeue did not answer: whether the sweep's arrays still run is unknown.
     #[error(transparent)]
-    Queue(#[from] crate::slurm::QueueError),
+    Queue(#[from] QueueError),
     /// sbatch did not take an array (nothing of it was queued).
     #[error("sbatch {script} failed: {message}")]
     Sbatch { script: String, message: String },
@@ -144,4 +146,17 @@ impl From<&str> for SlurmError {
     fn from(why: &str) -> Self {
         SlurmError::Refused(why.to_string())
     }
+}
+
+/// Why the queue's answer is unknown. Never read as "nothing queued".
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum QueueError {
+    #[error("squeue could not be run: {0}")]
+    NotRun(String),
+    #[error("squeue failed ({status}): {stderr}")]
+    Failed { status: String, stderr: String },
+    #[error("squeue gave no answer within {} s", .0.as_secs_f64())]
+    TimedOut(Duration),
+    #[error("squeue's answer could not be read: line {0:?}")]
+    Unparsable(String),
 }

@@ -9,7 +9,7 @@ use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::axes::Others;
-use crate::counts::Label;
+use crate::label::Label;
 
 /// How one replicate ended: its collision's outcome, or its prep's verdict where the prep was
 /// not `ok` (no collision ran). `Breakup` is the prep's verdict; a collision in which a cell

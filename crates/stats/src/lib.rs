@@ -40,6 +40,7 @@ pub mod distributions;
 pub mod end;
 pub mod fit;
 pub mod interpolation;
+pub mod label;
 mod model_line;
 pub mod refine;
 mod sampling;

@@ -9,7 +9,16 @@ use rusqlite::{params, Connection, OptionalExtension};
 use crate::database::Store;
 use crate::encoding::seed_to_sql;
 use crate::error::{Result, StoreError};
-use crate::register::NewJob;
+
+/// One replicate of a point to register: its index, its seed and which of the point's preps it
+/// starts from (an index into `NewSweep::preps`).
+#[derive(Debug, Clone, Copy)]
+pub struct NewJob {
+    pub replicate: u32,
+    pub seed: u64,
+    /// Index into [`NewSweep::preps`].
+    pub prep: usize,
+}
 
 /// A point's plan under one solver version.
 struct Plan {

@@ -8,7 +8,7 @@ use rusqlite::{params, OptionalExtension};
 use crate::database::Store;
 use crate::encoding::{now, point_others, seed_to_sql};
 use crate::error::{Result, StoreError};
-use crate::plans::plan_point_jobs;
+use crate::plans::{plan_point_jobs, NewJob};
 
 /// A sweep to register: its points, their jobs, and the preps they start from.
 #[derive(Debug, Clone)]
@@ -43,14 +43,6 @@ pub struct NewPoint {
     /// JSON of what a worker needs to run a collision (parameters, protocol, classifier).
     pub config: String,
     pub jobs: Vec<NewJob>,
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct NewJob {
-    pub replicate: u32,
-    pub seed: u64,
-    /// Index into [`NewSweep::preps`].
-    pub prep: usize,
 }
 
 /// What registering a sweep found.

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::escape;
-use super::line::interval;
+use super::interval;
 use crate::analysis::Analysis;
 use crate::collapse::{collapse_of, groups};
 

@@ -5,18 +5,10 @@ use std::fmt::Write as _;
 
 use cellsweep_stats::{Column, Fit, NoFit};
 
-use super::escape;
 use super::shift::shift_section;
+use super::{escape, interval};
 use crate::analysis::{Analysis, RESAMPLES};
 use crate::Results;
-
-pub(super) fn interval(v: f64, ci: [f64; 2], digits: usize) -> String {
-    if ci[0].is_finite() {
-        format!("{v:.digits$} [{:.digits$}, {:.digits$}]", ci[0], ci[1])
-    } else {
-        format!("{v:.digits$}")
-    }
-}
 
 pub(super) fn fit_row(h: &mut String, what: &str, fit: &Result<Fit, NoFit>, paper: &str) {
     match fit {

@@ -21,6 +21,15 @@ use diagrams::{checks_section, diagrams_section};
 use line::{columns_section, cost_section, fit_section};
 use provenance::provenance_section;
 
+/// A value with its 95% interval ("18.21 [17.60, 18.83]"), or alone where it has none.
+pub(crate) fn interval(v: f64, ci: [f64; 2], digits: usize) -> String {
+    if ci[0].is_finite() {
+        format!("{v:.digits$} [{:.digits$}, {:.digits$}]", ci[0], ci[1])
+    } else {
+        format!("{v:.digits$}")
+    }
+}
+
 /// Text made safe for HTML content and attribute values.
 pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());

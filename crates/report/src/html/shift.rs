@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use cellsweep_stats::{ColumnShifts, Fit, NoFit, Shift};
 
-use super::line::interval;
+use super::interval;
 use crate::analysis::Analysis;
 
 pub(super) fn shift_section(h: &mut String, an: &Analysis<'_>) {

@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use super::queue::{run_with_timeout, QueueError, SQUEUE_TIMEOUT};
+use super::queue::{run_with_timeout, SQUEUE_TIMEOUT};
 use super::SubmitOptions;
+use crate::error::QueueError;
 use crate::error::SlurmError;
 
 /// MaxArraySize of the cluster (`scontrol show config`); array indices must stay below it.

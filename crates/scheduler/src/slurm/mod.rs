@@ -33,12 +33,13 @@ mod commands;
 mod ended;
 mod queue;
 
+pub use crate::error::QueueError;
 pub use array_task::serve_array_task;
 pub use collect::{collect, read_responses, Collected};
 use commands::sbatch;
 pub use commands::{max_array_size, script, shell_quote};
 pub use ended::{settle_ended_arrays, Ended, EndedKind};
-pub use queue::{job_name, queue_of, Queue, QueueError, QueuedTask};
+pub use queue::{job_name, queue_of, Queue, QueuedTask};
 
 /// How to submit.
 #[derive(Debug, Clone)]

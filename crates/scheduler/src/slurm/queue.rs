@@ -7,27 +7,13 @@
 //! carries its array's id, its state and the script it runs, so an array whose id the store
 //! never learned (a kill between sbatch and the store) is found again by its script.
 
+use crate::error::QueueError;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use thiserror::Error;
-
 /// How long `squeue` may take before it counts as not answering.
 pub const SQUEUE_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// Why the queue's answer is unknown. Never read as "nothing queued".
-#[derive(Debug, Clone, PartialEq, Eq, Error)]
-pub enum QueueError {
-    #[error("squeue could not be run: {0}")]
-    NotRun(String),
-    #[error("squeue failed ({status}): {stderr}")]
-    Failed { status: String, stderr: String },
-    #[error("squeue gave no answer within {} s", .0.as_secs_f64())]
-    TimedOut(Duration),
-    #[error("squeue's answer could not be read: line {0:?}")]
-    Unparsable(String),
-}
 
 /// One array task in the queue.
 #[derive(Debug, Clone, PartialEq, Eq)]

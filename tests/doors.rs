@@ -142,6 +142,20 @@ fn an_import_is_all_or_nothing_and_names_each_problem() {
         out.contains("imported 0 results") && out.contains("8 already"),
         "{out}"
     );
+    // Another sweep under the same name (its seed changed in the definition line): refused
+    // without offering a --replace that import does not have, the store as it was.
+    let other = text.replacen("\"seed\":", "\"seed\":1", 1);
+    assert_ne!(other, text);
+    std::fs::write(dir.join("other.csv"), other).unwrap();
+    let before = std::fs::read(dir.join("fresh.sqlite")).unwrap();
+    let out = cellsweep_in(&dir, &["import", "other.csv", "--db", "fresh.sqlite"]);
+    let err = refused(&out, "a different sweep named");
+    assert!(
+        err.contains("import it into another store") || err.contains("into another store"),
+        "{err}"
+    );
+    assert!(!err.contains("pass --replace"), "{err}");
+    assert_eq!(std::fs::read(dir.join("fresh.sqlite")).unwrap(), before);
 }
 
 /// Points whose prep breaks up (beta = 200 on the small lattice) hold a result the prep itself

@@ -9,7 +9,7 @@ use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_stats::{Axes, PointKey};
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT};
 use cellsweep_store::JobState;
-use cellsweep_store::Store;
+use cellsweep_store::{Store, StoreError};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -190,7 +190,16 @@ fn import_into(
     points: &[Params],
     targets: &[u32],
 ) -> anyhow::Result<(usize, usize)> {
-    let reg = store.register(&plan_targets(sweep, file, points, &|i| targets[i]), false)?;
+    let reg = store
+        .register(&plan_targets(sweep, file, points, &|i| targets[i]), false)
+        .map_err(|e| match e {
+            // (The store's message offers `run --replace`; import never replaces a sweep.)
+            StoreError::SweepConflict { name, differs, .. } => anyhow::anyhow!(
+                "{file}: a different sweep named {name:?} is already registered in this store \
+                 ({differs}); import never replaces a sweep: import the file into another store"
+            ),
+            e => e.into(),
+        })?;
     // Rows are checked against the jobs they claim: every planned job becomes a row first.
     store.materialize_next(reg.sweep_id, SOLVER_VERSION, usize::MAX)?;
     let ledger = Ledger::load(store, reg.sweep_id, SOLVER_VERSION)?;

@@ -227,3 +227,27 @@ fn serve_refuses_bad_flags_in_one_line() {
         assert!(err.contains(says), "{args:?}: {err}");
     }
 }
+
+/// `--bind localhost` is the loopback address, as a user would write it (issue 50, 6).
+#[test]
+fn serve_binds_localhost_as_the_loopback() {
+    let dir = workdir("serve", "localhost");
+    // (A store not made yet: the page waits for it.)
+    let db = dir.join("s.sqlite");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(&dir)
+        .args(["serve", "--port", "0", "--bind", "localhost", "--db"])
+        .arg(&db)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(line.contains("http://127.0.0.1:"), "{line}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -104,7 +104,7 @@ pub struct ServeArgs {
     /// The address to listen on. Anything but a loopback address exposes the page, which has
     /// no authentication, to the network: reach it through an ssh tunnel instead
     /// (`ssh -L 8080:127.0.0.1:8080 host`).
-    #[arg(long, default_value = "127.0.0.1")]
+    #[arg(long, default_value = "127.0.0.1", value_parser = parse_bind)]
     pub bind: std::net::IpAddr,
     /// Seconds between the page's polls (and the least time between two readings of the
     /// store).
@@ -125,4 +125,14 @@ pub struct DbArgs {
     /// SQLite database of results.
     #[arg(long, default_value = "cellsweep.sqlite", value_name = "PATH")]
     pub db: std::path::PathBuf,
+}
+
+/// `--bind`: an IP address, or `localhost` (the IPv4 loopback, 127.0.0.1).
+fn parse_bind(text: &str) -> Result<std::net::IpAddr, String> {
+    match text {
+        "localhost" => Ok(std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST)),
+        _ => text
+            .parse()
+            .map_err(|_| format!("{text:?} is not an IP address (nor localhost)")),
+    }
 }

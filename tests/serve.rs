@@ -214,6 +214,7 @@ fn serve_refuses_bad_flags_in_one_line() {
         (vec!["--poll", "0"], "--poll"),
         (vec!["--bind", "not-an-address"], "--bind"),
         (vec!["--data", "/nonexistent/folder"], "/nonexistent/folder"),
+        (vec!["--db", "."], "a directory, not a store"),
     ] {
         let out = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
             .current_dir(&dir)

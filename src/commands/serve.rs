@@ -12,6 +12,13 @@ pub fn run(args: ServeArgs) -> anyhow::Result<()> {
     if !(args.poll.is_finite() && (0.2..=3600.0).contains(&args.poll)) {
         bail!("--poll {}: give seconds between 0.2 and 3600", args.poll);
     }
+    if args.db.db.is_dir() {
+        bail!(
+            "--db {}: a directory, not a store (give the store's file, e.g. {}/cellsweep.sqlite)",
+            args.db.db.display(),
+            args.db.db.display()
+        );
+    }
     let mut exports = Vec::new();
     for path in &args.data {
         for f in super::report::export_files(path)? {

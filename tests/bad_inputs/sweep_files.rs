@@ -236,6 +236,12 @@ const SWEEPS: &[(&str, &str, &str)] = &[
     // Refinement.
     ("[run]", "[refine]\naxis = \"alpha\"\n[run]", "refine.axis"),
     ("[run]", "[refine]\nstep = 0\n[run]", "refine.step"),
+    // (Issue 50, 6: no multiple of 100 lies between two of the grid's betas.)
+    (
+        "beta = [10]\nL = [48]\nsigma = [5]\n",
+        "beta = [10, 14, 18]\nL = [48]\nsigma = [5]\n[refine]\nstep = 100\n",
+        "refine.step: 100: no multiple of it lies between",
+    ),
     ("[run]", "[refine]\nwidth = -1\n[run]", "refine.width"),
     ("[run]", "[refine]\nwidth = nan\n[run]", "refine.width"),
     (

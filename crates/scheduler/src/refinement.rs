@@ -14,7 +14,8 @@ pub const MIN_STEP: f64 = 1e-6;
 /// `[refine]` over its defaults (`axis = "beta"`, `width = 1.0`, `step = 0.5`,
 /// `max_new_per_column = 6`, `per_round = 2`), checked against the grid's `betas` values; an
 /// error is the dotted key and the problem.
-pub(crate) fn rule(f: &RefineFile, betas: usize) -> Result<RefineRule, (String, String)> {
+pub(crate) fn rule(f: &RefineFile, grid_betas: &[f64]) -> Result<RefineRule, (String, String)> {
+    let betas = grid_betas.len();
     let err = |key: &str, problem: String| (format!("refine.{key}"), problem);
     if let Some(axis) = f.axis.as_deref().filter(|a| *a != "beta") {
         return Err(err(
@@ -59,6 +60,27 @@ pub(crate) fn rule(f: &RefineFile, betas: usize) -> Result<RefineRule, (String, 
         return Err((
             "grid.beta".into(),
             format!("{betas} values: a column needs at least 3 to have a crossing to refine"),
+        ));
+    }
+    // A value on the step's lattice must fit strictly between two neighbouring grid values,
+    // or refinement could never add one.
+    let mut sorted = grid_betas.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let fits = sorted.windows(2).any(|w| {
+        let (first, last) = (
+            (w[0] / rule.step).floor() + 1.0,
+            (w[1] / rule.step).ceil() - 1.0,
+        );
+        first <= last && first * rule.step > w[0] && first * rule.step < w[1]
+    });
+    if !fits {
+        return Err(err(
+            "step",
+            format!(
+                "{}: no multiple of it lies between two of the grid's beta values, so \
+                 refinement could add none",
+                rule.step
+            ),
         ));
     }
     Ok(rule)

@@ -215,10 +215,8 @@ fn refine(
     grid: &Grid,
     cx: &Ctx,
 ) -> Result<Option<RefineRule>, SweepError> {
-    r.map(|r| {
-        crate::refinement::rule(r, grid.beta.len()).map_err(|(key, problem)| cx.err(key, problem))
-    })
-    .transpose()
+    r.map(|r| crate::refinement::rule(r, &grid.beta).map_err(|(key, problem)| cx.err(key, problem)))
+        .transpose()
 }
 
 /// `[run]` over the defaults.

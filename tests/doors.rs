@@ -99,6 +99,10 @@ fn an_import_is_all_or_nothing_and_names_each_problem() {
             !dir.join("fresh.sqlite").exists(),
             "case {k}: a store was left"
         );
+        assert!(
+            !dir.join("fresh.sqlite.lock").exists(),
+            "case {k}: its lock file was left (issue 50, 6)"
+        );
         // Into the store that holds these jobs: refused, byte for byte as it was.
         let before = std::fs::read(dir.join("r.sqlite")).unwrap();
         let out = cellsweep_in(&dir, &["import", &file, "--db", "r.sqlite"]);

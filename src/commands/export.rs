@@ -53,7 +53,8 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     let file = args.file.display().to_string();
     let (sweep, mut rows) = read_export(&args.file)?;
     let (points, targets) = import_targets(&file, &sweep, &mut rows)?;
-    let _lock = StoreLock::acquire(&args.db.db)?;
+    let lock_existed = StoreLock::path_of(&args.db.db).exists();
+    let lock = StoreLock::acquire(&args.db.db)?;
     let db = &args.db.db;
     let existed = std::fs::metadata(db).is_ok_and(|m| m.len() > 0);
     let mut store = Store::open_or_create(db)?;
@@ -67,6 +68,13 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
             let mut p = db.as_os_str().to_owned();
             p.push(tail);
             let _ = std::fs::remove_file(std::path::PathBuf::from(p));
+        }
+        // Nor the lock file it made: released first (a writer that opened it since would
+        // lock a file about to go, but there is no store here for it to write).
+        let lock_path = lock.path().to_path_buf();
+        drop(lock);
+        if !lock_existed {
+            let _ = std::fs::remove_file(lock_path);
         }
     }
     let (new, already) = done?;

@@ -165,6 +165,92 @@ fn an_import_is_all_or_nothing_and_names_each_problem() {
 /// Points whose prep breaks up (beta = 200 on the small lattice) hold a result the prep itself
 /// decides, which import writes when it recomputes the prep: into a fresh store every row is
 /// new, none "already in the store"; the second time every row is.
+/// `reset --breakups` puts back only what a change of the breakup rule can change: the preps
+/// that broke up (beta = 200 on the small lattice) with every job that starts from them, and
+/// no other result; the next run computes them again with the same seeds, to the same rows.
+#[test]
+fn reset_breakups_puts_back_only_the_stored_breakups_and_the_rerun_gives_them_again() {
+    let dir = workdir("doors", "reset-breakups");
+    let toml = write_sweep(&dir, "broke", 2, "")
+        .to_str()
+        .unwrap()
+        .to_string();
+    let text = std::fs::read_to_string(&toml)
+        .unwrap()
+        .replace("beta = [10]", "beta = [10, 200]");
+    std::fs::write(&toml, text).unwrap();
+    ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
+    let export = |name: &str| -> Vec<String> {
+        ok(&cellsweep_in(
+            &dir,
+            &["export", "--db", "r.sqlite", "--out", name],
+        ));
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let header: Vec<String> = text
+            .lines()
+            .nth(2)
+            .unwrap()
+            .split(',')
+            .map(String::from)
+            .collect();
+        let wall: Vec<usize> = ["wall_s", "prep_wall_s"]
+            .iter()
+            .map(|w| header.iter().position(|h| h == w).unwrap())
+            .collect();
+        // Every row without its wall times (where it ran, not what it is).
+        let mut rows: Vec<String> = csv::ReaderBuilder::new()
+            .comment(Some(b'#'))
+            .from_reader(text.as_bytes())
+            .records()
+            .map(|r| {
+                let r = r.unwrap();
+                r.iter()
+                    .enumerate()
+                    .filter(|(k, _)| !wall.contains(k))
+                    .map(|(_, c)| c.to_string())
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect();
+        rows.sort();
+        rows
+    };
+    let before = export("before.csv");
+    let broke = before.iter().filter(|r| r.contains(",breakup,")).count();
+    assert!(
+        broke >= 2 && broke < before.len(),
+        "{broke} of {}",
+        before.len()
+    );
+    // A dry run counts and changes nothing.
+    let bytes = std::fs::read(dir.join("r.sqlite")).unwrap();
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["reset", "--db", "r.sqlite", "--breakups", "--dry-run"],
+    ));
+    assert!(
+        out.contains(&format!("would put back {broke} jobs")),
+        "{out}"
+    );
+    assert_eq!(std::fs::read(dir.join("r.sqlite")).unwrap(), bytes);
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["reset", "--db", "r.sqlite", "--breakups"],
+    ));
+    assert!(
+        out.contains(&format!("put back {broke} jobs")) && out.contains("preps to compute again"),
+        "{out}"
+    );
+    // The rest of the sweep is untouched: its results are all still there.
+    let kept = export("kept.csv");
+    assert_eq!(kept.len(), before.len() - broke);
+    assert!(kept.iter().all(|r| before.contains(r)));
+    // The run computes the put-back preps and jobs again: the very rows of before.
+    ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
+    assert_eq!(export("after.csv"), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
     let dir = workdir("doors", "by-prep");

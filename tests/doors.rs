@@ -290,6 +290,26 @@ fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
         out.contains("imported 0 results") && out.contains(&format!("({rows} already")),
         "{out}"
     );
+    // An export written before prep_extent was a column (format 3) imports too: the rows its
+    // preps decide are not refused for the extent the store now gives them.
+    let lines: Vec<&str> = export.lines().collect();
+    let header: Vec<&str> = lines[2].split(',').collect();
+    let k = header.iter().position(|h| *h == "prep_extent").unwrap();
+    assert_eq!(k, header.len() - 1, "prep_extent is the last column");
+    let old: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 | 1 => l.to_string(),
+            _ => l.rsplit_once(',').unwrap().0.to_string(),
+        })
+        .collect();
+    std::fs::write(dir.join("old.csv"), old.join("\n") + "\n").unwrap();
+    let out = ok(&cellsweep_in(
+        &dir,
+        &["import", "old.csv", "--db", "old.sqlite"],
+    ));
+    assert!(out.contains(&format!("imported {rows} results")), "{out}");
 }
 
 #[test]

@@ -165,20 +165,24 @@ fn an_import_is_all_or_nothing_and_names_each_problem() {
 /// Points whose prep breaks up (beta = 200 on the small lattice) hold a result the prep itself
 /// decides, which import writes when it recomputes the prep: into a fresh store every row is
 /// new, none "already in the store"; the second time every row is.
+/// The tiny sweep `name` with a second beta, 200, at which every prep breaks up on the small
+/// lattice: its file's path.
+fn sweep_with_broken_preps(dir: &Path, name: &str) -> String {
+    let toml = write_sweep(dir, name, 2, "").to_str().unwrap().to_string();
+    let text = std::fs::read_to_string(&toml)
+        .unwrap()
+        .replace("beta = [10]", "beta = [10, 200]");
+    std::fs::write(&toml, text).unwrap();
+    toml
+}
+
 /// `reset --breakups` puts back only what a change of the breakup rule can change: the preps
 /// that broke up (beta = 200 on the small lattice) with every job that starts from them, and
 /// no other result; the next run computes them again with the same seeds, to the same rows.
 #[test]
 fn reset_breakups_puts_back_only_the_stored_breakups_and_the_rerun_gives_them_again() {
     let dir = workdir("doors", "reset-breakups");
-    let toml = write_sweep(&dir, "broke", 2, "")
-        .to_str()
-        .unwrap()
-        .to_string();
-    let text = std::fs::read_to_string(&toml)
-        .unwrap()
-        .replace("beta = [10]", "beta = [10, 200]");
-    std::fs::write(&toml, text).unwrap();
+    let toml = sweep_with_broken_preps(&dir, "broke");
     ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
     let export = |name: &str| -> Vec<String> {
         ok(&cellsweep_in(
@@ -254,14 +258,7 @@ fn reset_breakups_puts_back_only_the_stored_breakups_and_the_rerun_gives_them_ag
 #[test]
 fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
     let dir = workdir("doors", "by-prep");
-    let toml = write_sweep(&dir, "byprep", 2, "")
-        .to_str()
-        .unwrap()
-        .to_string();
-    let text = std::fs::read_to_string(&toml)
-        .unwrap()
-        .replace("beta = [10]", "beta = [10, 200]");
-    std::fs::write(&toml, text).unwrap();
+    let toml = sweep_with_broken_preps(&dir, "byprep");
     ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
     ok(&cellsweep_in(
         &dir,

@@ -30,9 +30,16 @@ fn write_sweep(dir: &Path) -> std::path::PathBuf {
 
 /// `cellsweep serve` on a free port: the child and its address.
 fn start_server(dir: &Path, db: &Path) -> (Child, String) {
+    start_server_with(dir, db, &[])
+}
+
+/// [`start_server`] with more flags.
+fn start_server_with(dir: &Path, db: &Path, more: &[&str]) -> (Child, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
         .current_dir(dir)
-        .args(["serve", "--port", "0", "--poll", "0.3", "--db"])
+        .args(["serve", "--port", "0", "--poll", "0.3"])
+        .args(more)
+        .arg("--db")
         .arg(db)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -235,20 +242,9 @@ fn serve_binds_localhost_as_the_loopback() {
     let dir = workdir("serve", "localhost");
     // (A store not made yet: the page waits for it.)
     let db = dir.join("s.sqlite");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .current_dir(&dir)
-        .args(["serve", "--port", "0", "--bind", "localhost", "--db"])
-        .arg(&db)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let (mut child, url) = start_server_with(&dir, &db, &["--bind", "localhost"]);
     let _ = child.kill();
     let _ = child.wait();
-    assert!(line.contains("http://127.0.0.1:"), "{line}");
+    assert!(url.starts_with("http://127.0.0.1:"), "{url}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

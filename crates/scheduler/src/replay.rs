@@ -11,9 +11,10 @@
 
 use std::collections::HashMap;
 
+use cellsweep_solver::trajectory::run_from_prep;
 use cellsweep_solver::{
-    collide, prepare_with, ClassifierSettings, Collision, Config, Monitor, Prep, Seeds,
-    TrajectoryResult, Verdict, SOLVER_VERSION,
+    prepare_with, ClassifierSettings, Collision, Config, Monitor, Prep, Seeds, TrajectoryResult,
+    SOLVER_VERSION,
 };
 use cellsweep_store::export::ExportRow;
 use cellsweep_store::ResultRecord;
@@ -153,19 +154,7 @@ pub fn replay_with(
         collision: row.collision_seed,
     };
     let prep = cache.get(&config, seeds.prep, monitor, parallel)?.clone();
-    let collision = match prep.verdict {
-        Verdict::Ok => Some(collide(
-            &config.params,
-            &config.protocol,
-            &config.classifier,
-            &prep,
-            seeds.collision,
-            monitor,
-            parallel,
-        )?),
-        _ => None,
-    };
-    let result = TrajectoryResult::new(&config, &prep, seeds.collision, collision.as_ref());
+    let (result, collision) = run_from_prep(&config, &prep, seeds.collision, monitor, parallel)?;
     let differences = differences(row, &result_record(&result, 0.0), &prep_hash(&prep));
     Ok(Replayed {
         config,

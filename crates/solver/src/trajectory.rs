@@ -110,19 +110,32 @@ pub fn run_trajectory(
         monitor,
         parallel,
     )?;
-    let collision = if prep.verdict == Verdict::Ok {
-        Some(collide(
+    let (result, collision) = run_from_prep(config, &prep, seeds.collision, monitor, parallel)?;
+    Ok((result, prep, collision))
+}
+
+/// The rest of a trajectory from its prep: the collision with `collision_seed` if the prep's
+/// verdict is `ok`, and the result record of both ([`run_trajectory`] after the prep, and a
+/// replay whose prep was computed before).
+pub fn run_from_prep(
+    config: &Config,
+    prep: &Prep,
+    collision_seed: u64,
+    monitor: &mut dyn Monitor,
+    parallel: bool,
+) -> Result<(TrajectoryResult, Option<Collision>), SolverError> {
+    let collision = match prep.verdict {
+        Verdict::Ok => Some(collide(
             &config.params,
             &config.protocol,
             &config.classifier,
-            &prep,
-            seeds.collision,
+            prep,
+            collision_seed,
             monitor,
             parallel,
-        )?)
-    } else {
-        None
+        )?),
+        _ => None,
     };
-    let result = TrajectoryResult::new(config, &prep, seeds.collision, collision.as_ref());
-    Ok((result, prep, collision))
+    let result = TrajectoryResult::new(config, prep, collision_seed, collision.as_ref());
+    Ok((result, collision))
 }

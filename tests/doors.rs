@@ -351,6 +351,68 @@ fn an_archived_sweeps_export_imports_into_a_fresh_store() {
 }
 
 #[test]
+fn a_killed_import_leaves_no_store_at_its_path_and_a_clean_run_no_lock_file() {
+    let dir = workdir("doors", "killed-import");
+    // One point whose prep takes a while (a long free motion): the import recomputes it.
+    std::fs::write(
+        dir.join("slow.toml"),
+        "name = \"slow\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
+         [params]\nR0 = 24\n[protocol]\nsingle_lattice = [96, 96]\nrelax_time = 5\nfree_time = 150\ncollide_time = 2\n",
+    )
+    .unwrap();
+    ok(&cellsweep_in(
+        &dir,
+        &["run", "slow.toml", "--db", "r.sqlite"],
+    ));
+    // A run that ended leaves its store and nothing else (issue 50, 9).
+    assert!(
+        !dir.join("r.sqlite.lock").exists(),
+        "the run left its lock file"
+    );
+    ok(&cellsweep_in(
+        &dir,
+        &["export", "--db", "r.sqlite", "--out", "e.csv"],
+    ));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+        .current_dir(&dir)
+        .args(["import", "e.csv", "--db", "new.sqlite"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Killed while it computes the prep (its store under construction is on disk by then).
+    let building = dir.join("new.sqlite.importing");
+    let t0 = std::time::Instant::now();
+    while !building.exists() {
+        assert!(
+            t0.elapsed().as_secs() < 60,
+            "the import never started its store"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the import ended before the kill"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    common::send_signal(&child, libc::SIGKILL);
+    let _ = child.wait();
+    assert!(
+        !dir.join("new.sqlite").exists(),
+        "a killed import left a store at the path asked for (issue 50, 6)"
+    );
+    // The next import clears what the killed one left and lands whole.
+    ok(&cellsweep_in(
+        &dir,
+        &["import", "e.csv", "--db", "new.sqlite"],
+    ));
+    assert!(!building.exists() && !dir.join("new.sqlite.lock").exists());
+    assert_eq!(
+        query(&dir.join("new.sqlite"), "SELECT COUNT(*) FROM results"),
+        1
+    );
+}
+
+#[test]
 fn one_writer_per_database_file_whatever_name_reaches_it() {
     let dir = workdir("doors", "lock");
     write_sweep(&dir, "lk", 2, "");
@@ -363,7 +425,17 @@ fn one_writer_per_database_file_whatever_name_reaches_it() {
         .args([&lock, "sleep", "60"])
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Held once a non-blocking shared lock of the same file is refused (no sleep and hope).
+    let t0 = std::time::Instant::now();
+    while Command::new("flock")
+        .args(["-n", "-s", &lock, "true"])
+        .status()
+        .unwrap()
+        .success()
+    {
+        assert!(t0.elapsed().as_secs() < 30, "flock never took the lock");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
     let names = ["c.sqlite", "./c.sqlite", "l.sqlite", abs.to_str().unwrap()];
     for name in names {
         let out = cellsweep_in(&dir, &["run", "lk.toml", "--db", name]);

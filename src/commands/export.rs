@@ -53,30 +53,39 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
     let file = args.file.display().to_string();
     let (sweep, mut rows) = read_export(&args.file)?;
     let (points, targets) = import_targets(&file, &sweep, &mut rows)?;
-    let lock_existed = StoreLock::path_of(&args.db.db).exists();
     let lock = StoreLock::acquire(&args.db.db)?;
     let db = &args.db.db;
     let existed = std::fs::metadata(db).is_ok_and(|m| m.len() > 0);
-    let mut store = Store::open_or_create(db)?;
+    // A new store is built under a name of its own and moved into place whole once committed:
+    // an import killed on the way (its preps take minutes) leaves no store at the path asked
+    // for. What a killed one left there is removed first (this import holds the path's lock).
+    let building = (!existed).then(|| with_suffix(db, ".importing"));
+    let target = building.as_deref().unwrap_or(db);
+    if let Some(tmp) = &building {
+        remove_store_files(tmp);
+    }
+    let mut store = Store::open_or_create(target)?;
     store.check_integrity()?;
     let done =
         store.atomically(|store| import_into(store, &file, &sweep, &rows, &points, &targets));
-    if done.is_err() && !existed {
-        // Nothing of it may stay: not even the empty store this import created.
+    if let Some(tmp) = &building {
+        let placed = done.as_ref().map_err(|_| ()).and_then(|_| {
+            store.close().map_err(|_| ())?;
+            std::fs::rename(tmp, db).map_err(|_| ())
+        });
+        // Refused (or not moved): nothing of it stays, not even an empty store.
+        if placed.is_err() {
+            remove_store_files(tmp);
+            done.as_ref().map_err(|e| anyhow::anyhow!("{e:#}"))?;
+            bail!(
+                "cannot move the imported store into place at {}",
+                db.display()
+            );
+        }
+    } else {
         drop(store);
-        for tail in ["", "-wal", "-shm", "-journal"] {
-            let mut p = db.as_os_str().to_owned();
-            p.push(tail);
-            let _ = std::fs::remove_file(std::path::PathBuf::from(p));
-        }
-        // Nor the lock file it made: released first (a writer that opened it since would
-        // lock a file about to go, but there is no store here for it to write).
-        let lock_path = lock.path().to_path_buf();
-        drop(lock);
-        if !lock_existed {
-            let _ = std::fs::remove_file(lock_path);
-        }
     }
+    drop(lock);
     let (new, already) = done?;
     println!(
         "imported {new} results of {:?} from {file} ({already} already in the store) into {}",
@@ -84,6 +93,20 @@ pub fn import(args: ImportArgs) -> anyhow::Result<()> {
         db.display()
     );
     Ok(())
+}
+
+/// `path` with `suffix` appended to its file name.
+fn with_suffix(path: &std::path::Path, suffix: &str) -> std::path::PathBuf {
+    let mut p = path.as_os_str().to_owned();
+    p.push(suffix);
+    std::path::PathBuf::from(p)
+}
+
+/// A store's database file and SQLite's files beside it.
+fn remove_store_files(db: &std::path::Path) {
+    for tail in ["", "-wal", "-shm", "-journal"] {
+        let _ = std::fs::remove_file(with_suffix(db, tail));
+    }
 }
 
 /// Every row's field check and point, the sweep's points (its grid's, then any its refinement

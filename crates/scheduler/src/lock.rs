@@ -11,6 +11,11 @@
 //! take one lock. A file with several hard links has several canonical paths, and SQLite itself
 //! would keep a different journal beside each name (its "how to corrupt" notes, multiple
 //! links): a writer refuses such a store.
+//!
+//! The lock file lives only while it is held: its holder removes it as it lets go (still holding
+//! it), so a finished run leaves no `.lock` behind. A writer that opened the file just before it
+//! went would then lock a name no longer in the directory: having taken the lock, a writer checks
+//! that the name still leads to the file it locked, and starts again where it does not.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read, Seek, Write};
@@ -38,11 +43,30 @@ pub enum LockError {
     },
 }
 
-/// The held lock; dropping it releases it.
+/// The held lock; dropping it removes the lock file and releases it.
 #[derive(Debug)]
 pub struct StoreLock {
-    _file: File,
+    file: File,
     path: PathBuf,
+}
+
+impl Drop for StoreLock {
+    fn drop(&mut self) {
+        // Removed while still held (a writer waiting on this file finds, once it has the lock,
+        // that the name no longer leads to it); the lock goes with the file's last descriptor.
+        if same_file(&self.file, &self.path) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Whether `path` names the very file `file` has open.
+fn same_file(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
 }
 
 impl StoreLock {
@@ -86,42 +110,14 @@ impl StoreLock {
             path: path.clone(),
             source,
         };
-        let mut file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(&path)
-            .map_err(io)?;
-        // A reader's probe ([`StoreLock::is_held`]) holds a shared lock for a moment: a few
-        // short waits ride it out; a writer holds it for good.
-        let mut tries = 0;
-        let taken = loop {
-            match file.try_lock() {
-                Err(TryLockError::WouldBlock) if tries < 5 => {
-                    tries += 1;
-                    std::thread::sleep(std::time::Duration::from_millis(20));
-                }
-                other => break other,
+        // A holder removes the file as it lets go: a file locked after that is no longer the
+        // one the name leads to, and the lock is taken again on the name's new file.
+        let mut file = loop {
+            let file = Self::lock_file(&path)?;
+            if same_file(&file, &path) {
+                break file;
             }
         };
-        match taken {
-            Ok(()) => {}
-            Err(TryLockError::WouldBlock) => {
-                let mut holder = String::new();
-                let _ = file.read_to_string(&mut holder);
-                let holder = holder.trim();
-                return Err(LockError::Held {
-                    path: path.clone(),
-                    holder: if holder.is_empty() {
-                        "unknown holder".into()
-                    } else {
-                        holder.to_string()
-                    },
-                });
-            }
-            Err(TryLockError::Error(e)) => return Err(io(e)),
-        }
         let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
             .map(|h| h.trim().to_string())
             .unwrap_or_else(|_| "this host".into());
@@ -137,7 +133,51 @@ impl StoreLock {
         )
         .map_err(io)?;
         file.flush().map_err(io)?;
-        Ok(StoreLock { _file: file, path })
+        Ok(StoreLock { file, path })
+    }
+
+    /// Open (or create) the lock file at `path` and lock it, or say who holds it.
+    fn lock_file(path: &Path) -> Result<File, LockError> {
+        let io = |source| LockError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(io)?;
+        // A reader's probe ([`StoreLock::is_held`]) holds a shared lock for a moment: a few
+        // short waits ride it out; a writer holds it for good.
+        let mut tries = 0;
+        let taken = loop {
+            match file.try_lock() {
+                Err(TryLockError::WouldBlock) if tries < 5 => {
+                    tries += 1;
+                    std::thread::sleep(std::time::Duration::from_millis(20));
+                }
+                other => break other,
+            }
+        };
+        match taken {
+            Ok(()) => Ok(file),
+            Err(TryLockError::WouldBlock) => {
+                let mut holder = String::new();
+                let _ = file.read_to_string(&mut holder);
+                let holder = holder.trim();
+                Err(LockError::Held {
+                    path: path.to_path_buf(),
+                    holder: if holder.is_empty() {
+                        "unknown holder".into()
+                    } else {
+                        holder.to_string()
+                    },
+                })
+            }
+            Err(TryLockError::Error(e)) => Err(io(e)),
+        }
     }
 
     pub fn path(&self) -> &Path {

@@ -63,6 +63,15 @@ impl Store {
         Ok(store)
     }
 
+    /// Close the store with everything in the database file itself (the write-ahead log
+    /// checkpointed and gone), so that the file alone is the store: it may then be moved.
+    pub fn close(self) -> Result<()> {
+        self.conn
+            .query_row("PRAGMA wal_checkpoint(TRUNCATE)", [], |_| Ok(()))?;
+        self.conn.close().map_err(|(_, e)| e)?;
+        Ok(())
+    }
+
     /// Open an existing store for reading only (`status`, `table`, `plot`, ...): it works on
     /// read-only media too, where SQLite cannot create the WAL index beside the file (then the
     /// file is opened as immutable: nothing can be writing it there).

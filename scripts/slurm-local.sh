@@ -4,6 +4,10 @@
 #   scripts/slurm-local.sh up     install (Debian's slurm-wlm and munge), configure, start
 #                                 munged, slurmctld and slurmd, wait until the node is idle;
 #                                 idempotent: a running cluster is left as it is
+#   scripts/slurm-local.sh up --until-exit PID
+#                                 the same, and where this call started a daemon, bring the
+#                                 cluster down once process PID has exited (the tests pass
+#                                 their own pid: a cluster they started does not outlive them)
 #   scripts/slurm-local.sh down   stop exactly the daemons `up` started
 #
 # The node has this machine's real CPU count; proctrack/linuxproc, task/none, no accounting
@@ -16,21 +20,32 @@ PIDS="$STATE/pids"
 
 log() { echo "slurm-local: $*" >&2; }
 
-installed() { command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v munged >/dev/null && command -v pgrep >/dev/null; }
+installed() { command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v munged >/dev/null; }
+
+# The pids of the processes named NAME (their /proc comm): no procps needed (a minimal Debian
+# has no pgrep).
+pids_of() { # name
+  local d
+  for d in /proc/[0-9]*; do
+    [ "$(cat "$d/comm" 2>/dev/null)" = "$1" ] && echo "${d#/proc/}"
+  done
+  return 0
+}
+running() { [ -n "$(pids_of "$1")" ]; }
 
 install() {
   installed && return 0
-  log "installing slurm-wlm, munge and procps"
+  log "installing slurm-wlm and munge"
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
-  apt-get install -y -qq --no-install-recommends slurm-wlm munge procps >/dev/null
+  apt-get install -y -qq --no-install-recommends slurm-wlm munge >/dev/null
 }
 
 # Record the pid of a daemon this script started (kept across restarts: `up` after one daemon
 # died appends the new one and keeps the others, so `down` stops all of them).
 remember() { # name
   local pid
-  for pid in $(pgrep -x "$1"); do
+  for pid in $(pids_of "$1"); do
     grep -qx "$1 $pid" "$PIDS" 2>/dev/null || echo "$1 $pid" >> "$PIDS"
   done
 }
@@ -84,17 +99,20 @@ CONF
 
 node_idle() { sinfo -h -o '%t' 2>/dev/null | grep -qE '^(idle|mix|alloc)'; }
 
-daemons_run() { pgrep -x munged >/dev/null && pgrep -x slurmctld >/dev/null && pgrep -x slurmd >/dev/null; }
+daemons_run() { running munged && running slurmctld && running slurmd; }
+
+STARTED=0  # whether this call started a daemon
 
 up() {
-  if command -v pgrep >/dev/null && daemons_run && node_idle; then
+  if daemons_run && node_idle; then
     log "already up"
     return 0
   fi
   install
   configure
   touch "$PIDS"
-  if ! pgrep -x munged >/dev/null; then
+  STARTED=1
+  if ! running munged; then
     if id munge >/dev/null 2>&1; then
       runuser -u munge -- /usr/sbin/munged --force
     else
@@ -103,8 +121,8 @@ up() {
     sleep 0.5
     remember munged
   fi
-  pgrep -x slurmctld >/dev/null || { /usr/sbin/slurmctld; sleep 1; remember slurmctld; }
-  pgrep -x slurmd >/dev/null || { /usr/sbin/slurmd; sleep 1; remember slurmd; }
+  running slurmctld || { /usr/sbin/slurmctld; sleep 1; remember slurmctld; }
+  running slurmd || { /usr/sbin/slurmd; sleep 1; remember slurmd; }
   for _ in $(seq 1 60); do
     if node_idle; then
       log "up: $(sinfo -h -o '%N %t %c CPUs')"
@@ -133,8 +151,24 @@ down() {
   log "down"
 }
 
+# Bring the cluster down once process $1 has exited, from a process of its own (detached, its
+# output nowhere: a caller reading this script's output is not kept waiting on it).
+down_after() { # pid
+  local self
+  self="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
+  setsid bash -c 'while [ -e "/proc/$1" ]; do sleep 1; done; exec bash "$0" down' \
+    "$self" "$1" </dev/null >/dev/null 2>&1 &
+}
+
 case "${1:-}" in
-  up) up ;;
+  up)
+    if [ "${2:-}" = --until-exit ]; then
+      owner=${3:?usage: $0 up --until-exit PID}
+      up
+      [ "$STARTED" = 1 ] && down_after "$owner"
+      exit 0
+    fi
+    up ;;
   down) down ;;
-  *) echo "usage: $0 up|down" >&2; exit 2 ;;
+  *) echo "usage: $0 up [--until-exit PID] | down" >&2; exit 2 ;;
 esac

@@ -3,18 +3,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use std::process::{Command, Output};
 
 use common::{result_rows, write_sweep, ADAPTIVE};
 
-fn workdir(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cellsweep-adaptive-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn workdir(name: &str) -> common::Scratch {
+    common::workdir("adaptive", name)
 }
 
 fn cellsweep(args: &[&str]) -> Output {

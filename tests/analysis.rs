@@ -1,5 +1,6 @@
 //! `table`, `fit` and `plot` as a user runs them, on a counts file drawn from a known line.
 
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -10,12 +11,8 @@ fn cellsweep(args: &[&str]) -> Output {
         .unwrap()
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cellsweep-analysis-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn workdir(name: &str) -> common::Scratch {
+    common::workdir("analysis", name)
 }
 
 /// A paper-like L = 90 diagram: walk-past above beta_crit = 0.6 alpha~/L~ - 12, an unstable

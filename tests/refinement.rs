@@ -16,7 +16,7 @@ use common::world::{added, beta_star, drive, open, rows, store_at, sweep_text, S
 fn rounds_add_values_inside_the_interval_until_narrow_or_spent_and_match_a_fixed_sweep() {
     let text = sweep_text("refined", "{ from = 10, to = 30, step = 4 }", true);
     let sweep = Sweep::parse(&text, "refined.toml").unwrap();
-    let (_, mut store) = store_at("rounds");
+    let (_store_dir, mut store) = store_at("rounds");
     let ledger = open(&mut store, &sweep);
     drive(&mut store, &ledger, false, usize::MAX);
 
@@ -86,7 +86,7 @@ fn rounds_add_values_inside_the_interval_until_narrow_or_spent_and_match_a_fixed
             .join(", ")
     );
     let fixed = Sweep::parse(&sweep_text("refined", &list, false), "fixed.toml").unwrap();
-    let (_, mut fixed_store) = store_at("fixed");
+    let (_fixed_store_dir, mut fixed_store) = store_at("fixed");
     let fixed_ledger = open(&mut fixed_store, &fixed);
     drive(&mut fixed_store, &fixed_ledger, false, usize::MAX);
     let wanted: BTreeSet<(u64, u64)> = points
@@ -113,13 +113,13 @@ fn a_killed_refinement_resumes_and_the_order_of_results_changes_nothing() {
     let text = sweep_text("resumed", "{ from = 10, to = 30, step = 4 }", true);
     let sweep = Sweep::parse(&text, "resumed.toml").unwrap();
 
-    let (_, mut straight) = store_at("straight");
+    let (_straight_dir, mut straight) = store_at("straight");
     let l1 = open(&mut straight, &sweep);
     drive(&mut straight, &l1, false, usize::MAX);
 
     // Results in the reverse order, killed twice: once between results, once with a job
     // claimed and never answered (left running). Each restart reopens the ledger as a run does.
-    let (_, mut killed) = store_at("killed");
+    let (_killed_dir, mut killed) = store_at("killed");
     let l2 = open(&mut killed, &sweep);
     drive(&mut killed, &l2, true, 500);
     let l2 = open(&mut killed, &sweep);

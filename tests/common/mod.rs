@@ -3,7 +3,10 @@
 #![allow(dead_code)]
 
 pub mod browser;
+mod scratch;
 pub mod world;
+
+pub use scratch::Scratch;
 
 use std::path::{Path, PathBuf};
 
@@ -55,13 +58,10 @@ pub fn write_sweep(dir: &Path, name: &str, replicates: u32, tail: &str) -> PathB
     path
 }
 
-/// A fresh scratch directory for one test.
-pub fn workdir(prefix: &str, name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cellsweep-{prefix}-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh scratch directory for one test, removed when the test is done with it (see
+/// [`Scratch`]): the tests leave nothing behind.
+pub fn workdir(prefix: &str, name: &str) -> Scratch {
+    Scratch::dir(prefix, name)
 }
 
 /// The cellsweep binary, run in `dir`.

@@ -57,14 +57,8 @@ pub fn law(params: &Params, seed: u64) -> Outcome {
     }
 }
 
-pub fn store_at(name: &str) -> (PathBuf, Store) {
-    let dir = std::env::temp_dir().join(format!(
-        "cellsweep-refinement-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let db = dir.join("r.sqlite");
+pub fn store_at(name: &str) -> (super::Scratch, Store) {
+    let db = super::Scratch::file("refinement", name, "r.sqlite");
     let store = Store::open_or_create(&db).unwrap();
     (db, store)
 }

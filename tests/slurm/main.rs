@@ -22,7 +22,8 @@ pub(crate) fn slurm_up() {
         let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm-local.sh");
         let out = Command::new("bash")
             .arg(script)
-            .arg("up")
+            // A cluster started here goes down once this test binary has exited.
+            .args(["up", "--until-exit", &std::process::id().to_string()])
             .output()
             .expect("run slurm-local.sh");
         assert!(
@@ -41,11 +42,8 @@ pub(crate) fn cellsweep(dir: &Path, args: &[&str]) -> Output {
         .unwrap()
 }
 
-pub(crate) fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cellsweep-slurm-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+pub(crate) fn workdir(name: &str) -> common::Scratch {
+    common::workdir("slurm", name)
 }
 
 pub(crate) fn write_sweep(dir: &Path, name: &str) -> PathBuf {

@@ -18,11 +18,8 @@ pub(crate) fn exe() -> &'static str {
     env!("CARGO_BIN_EXE_cellsweep")
 }
 
-pub(crate) fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cellsweep-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+pub(crate) fn workdir(name: &str) -> common::Scratch {
+    common::workdir("sweep", name)
 }
 
 /// A sweep of the real model on small lattices: 2 alphas x 2 sigmas x `replicates`.

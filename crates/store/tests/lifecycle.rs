@@ -4,13 +4,14 @@ use cellsweep_stats::End;
 use cellsweep_store::{
     JobState, NewJob, NewPoint, NewPrep, NewSweep, ResultRecord, Store, StoreError,
 };
-use std::path::PathBuf;
+use std::path::Path;
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cellsweep-store-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join("db.sqlite")
+#[path = "../../../tests/common/scratch.rs"]
+mod scratch;
+
+/// A store's path in a fresh scratch directory, removed when the test is done with it.
+fn tmp(name: &str) -> scratch::Scratch {
+    scratch::Scratch::file("store", name, "db.sqlite")
 }
 
 fn sweep(spec: &str, version: &str) -> NewSweep {
@@ -309,7 +310,7 @@ fn a_version_2_store_is_read_as_it_is_and_migrated_by_a_writer() {
          ALTER TABLE preps DROP COLUMN attempts_at_retry;
          DROP INDEX point_plans_open; DROP TABLE point_plans;
          UPDATE meta SET value = '2' WHERE key = 'schema_version';");
-    let version = |p: &PathBuf| -> String {
+    let version = |p: &Path| -> String {
         let c = rusqlite::Connection::open(p).unwrap();
         c.query_row(
             "SELECT value FROM meta WHERE key = 'schema_version'",
@@ -390,7 +391,7 @@ fn a_version_5_store_keeps_its_slurm_arrays_when_migrated_and_records_the_next_b
 }
 
 /// The rows of `sql` (its first `cols` columns), each as one line of text.
-fn rows_of(path: &PathBuf, sql: &str, cols: usize) -> Vec<String> {
+fn rows_of(path: &Path, sql: &str, cols: usize) -> Vec<String> {
     let c = rusqlite::Connection::open(path).unwrap();
     let mut q = c.prepare(sql).unwrap();
     q.query_map([], |r| {
@@ -407,7 +408,7 @@ fn rows_of(path: &PathBuf, sql: &str, cols: usize) -> Vec<String> {
 
 /// `point_progress` against a count of the jobs themselves: (point, version) -> (pending,
 /// running, done, failed, latest finish of a done job).
-fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
+fn progress_and_jobs(path: &Path) -> (Vec<String>, Vec<String>) {
     (
         rows_of(
             path,
@@ -432,7 +433,7 @@ fn progress_and_jobs(path: &PathBuf) -> (Vec<String>, Vec<String>) {
 }
 
 /// `point_outcomes` against a count of the results themselves.
-fn outcomes_and_results(path: &PathBuf) -> (Vec<String>, Vec<String>) {
+fn outcomes_and_results(path: &Path) -> (Vec<String>, Vec<String>) {
     (
         rows_of(
             path,

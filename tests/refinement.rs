@@ -415,3 +415,82 @@ fn export_table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
     assert!(!rows.is_empty());
     (names, rows)
 }
+
+/// Retuning `[refine]` (issue 50, 2): a rule that could not have added the values earlier
+/// rounds added (another step, a smaller budget) is refused before anything is written; one that holds them (a larger budget) is taken, and the store's
+/// export then imports.
+#[test]
+fn a_retuned_refine_rule_must_hold_the_values_earlier_rounds_added() {
+    let dir = common::workdir("refinement", "retune");
+    let (toml, csv) = common::world::refined_export(&dir, "retune");
+    let import = common::cellsweep_in(&dir, &["import", csv.to_str().unwrap(), "--db", "r.sqlite"]);
+    assert!(
+        import.status.success(),
+        "{}",
+        String::from_utf8_lossy(&import.stderr)
+    );
+    let db = dir.join("r.sqlite");
+    // The rounds add values on the rule's step from the imported crossings.
+    let run = common::cellsweep_in(&dir, &["run", toml.to_str().unwrap(), "--db", "r.sqlite"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(common::query(&db, "SELECT COUNT(*) FROM points") > 12);
+    let text = std::fs::read_to_string(&toml).unwrap();
+    let step = format!("step = {}", common::world::STEP);
+    assert!(text.contains(&step) && text.contains("max_new_per_column = 6"));
+    for (k, (from, to, needle)) in [
+        (
+            step.as_str(),
+            "step = 0.3",
+            "not on the refinement's step 0.3",
+        ),
+        (
+            "max_new_per_column = 6",
+            "max_new_per_column = 2",
+            "max_new_per_column = 2",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let file = dir.join(format!("retuned{k}.toml"));
+        std::fs::write(&file, text.replace(from, to)).unwrap();
+        let before = std::fs::read(&db).unwrap();
+        let out = common::cellsweep_in(&dir, &["run", file.to_str().unwrap(), "--db", "r.sqlite"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "retune {k} accepted");
+        assert!(
+            err.contains("could not have added them") && err.contains(needle),
+            "{err}"
+        );
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert_eq!(
+            std::fs::read(&db).unwrap(),
+            before,
+            "retune {k} changed the store"
+        );
+    }
+    // A larger budget holds every added value: taken, and the export imports afresh.
+    std::fs::write(
+        &toml,
+        text.replace("max_new_per_column = 6", "max_new_per_column = 8"),
+    )
+    .unwrap();
+    let out = common::cellsweep_in(&dir, &["run", toml.to_str().unwrap(), "--db", "r.sqlite"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = common::cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "back.csv"]);
+    assert!(out.status.success());
+    let out = common::cellsweep_in(&dir, &["import", "back.csv", "--db", "fresh.sqlite"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -221,6 +221,23 @@ fn import_into(
     points: &[Params],
     targets: &[u32],
 ) -> anyhow::Result<(usize, usize)> {
+    sweep
+        .check_stored_points(store)
+        .map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
+    let retuned = match store.sweep_id(&sweep.name) {
+        Ok(id) => matches!(
+            cellsweep_store::spec_change(&store.sweep_spec(id)?, &sweep.canonical_json()),
+            cellsweep_store::SpecChange::Retuned | cellsweep_store::SpecChange::Grows { .. }
+        ),
+        Err(_) => false,
+    };
+    if retuned {
+        println!(
+            "note: sweep {:?} in the store takes the file's replicates, [adaptive] and [refine] \
+             rules (its points and results are kept)",
+            sweep.name
+        );
+    }
     let reg = store
         .register(&plan_targets(sweep, file, points, &|i| targets[i]), false)
         .map_err(|e| match e {

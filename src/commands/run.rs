@@ -34,6 +34,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     if !args.force {
         refuse_while_on_slurm(&store, &sweep.name)?;
     }
+    if !args.replace {
+        sweep.check_stored_points(&store)?;
+    }
     let reg = store.register(&new, args.replace)?;
     announce(&sweep, &new, &reg, &args.db.db);
 

@@ -73,6 +73,9 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     store.check_integrity()?;
+    if !args.replace {
+        sweep.check_stored_points(&store)?;
+    }
     let reg = store.register(&new, args.replace)?;
     if let Some(from) = reg.grown_from {
         println!(

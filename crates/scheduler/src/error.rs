@@ -108,6 +108,26 @@ pub enum RunError {
     Prep(#[from] PayloadError),
 }
 
+/// A sweep file whose `[refine]` rule cannot hold the beta values earlier rounds added to the
+/// sweep of its name in the store (another step, a smaller budget): refused before anything is
+/// written, since the store's own export would then be refused by `import`.
+#[derive(Debug, Error)]
+pub enum RetuneError {
+    #[error(
+        "sweep {name:?} in the store holds beta values its earlier [refine] rounds added, and \
+         this definition's [refine] could not have added them ({why}); keep the stored rule \
+         ({stored}) or one that holds them (a step dividing theirs, a budget at least as \
+         large), or give the sweep another name"
+    )]
+    Refused {
+        name: String,
+        why: String,
+        stored: String,
+    },
+    #[error(transparent)]
+    Store(#[from] cellsweep_store::StoreError),
+}
+
 /// Failures of the Slurm engine: writing a run directory, calling sbatch, reading results.
 #[derive(Debug, Error)]
 pub enum SlurmError {

@@ -28,7 +28,9 @@ pub mod wire;
 pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
-pub use error::{AxisError, CallError, PayloadError, RunError, SlurmError, SweepError, ValueError};
+pub use error::{
+    AxisError, CallError, PayloadError, RetuneError, RunError, SlurmError, SweepError, ValueError,
+};
 pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_targets};

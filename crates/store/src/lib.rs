@@ -33,7 +33,7 @@ pub use identity::{JobIdentity, PointJobs, PrepIdentity};
 pub use lifecycle::JobState;
 pub use plans::NewJob;
 pub use record::{PrepRecord, ResultRecord};
-pub use register::{NewPoint, NewPrep, NewSweep, Registration};
+pub use register::{spec_change, NewPoint, NewPrep, NewSweep, Registration, SpecChange};
 pub use reset::{PointRef, Reset};
 pub use slurm_arrays::SlurmArray;
 pub use status::{Failure, MeasuredCost, PointCounts, StateCounts, SweepStatus};

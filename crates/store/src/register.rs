@@ -310,7 +310,7 @@ fn other_versions(
 
 /// How a new definition of a registered sweep differs from the stored one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum SpecChange {
+pub enum SpecChange {
     Same,
     /// Only the adaptive or the refinement rule differs.
     Retuned,
@@ -332,7 +332,7 @@ enum SpecChange {
 /// seed and prep depend on its index, never on the count (SPEC section 6), the adaptive rule
 /// only decides how many of them run, and the refinement rule which points beyond the grid
 /// are added (each seeded by its own parameters).
-fn spec_change(stored: &str, new: &str) -> SpecChange {
+pub fn spec_change(stored: &str, new: &str) -> SpecChange {
     if stored == new {
         return SpecChange::Same;
     }

@@ -10,8 +10,10 @@ use std::collections::{HashMap, HashSet};
 
 use cellsweep_solver::Params;
 use cellsweep_stats::Axes;
+use cellsweep_store::{spec_change, SpecChange, Store, StoreError};
 
 use super::Sweep;
+use crate::error::RetuneError;
 
 impl Sweep {
     /// Parameters of every grid point, ordered by the other axes (the first outermost), then
@@ -152,4 +154,47 @@ impl Sweep {
 /// (as `cellsweep_stats::refine` writes the values it adds).
 fn snap(v: f64) -> f64 {
     format!("{v:.9}").parse().unwrap_or(v)
+}
+
+impl Sweep {
+    /// Refuse this definition where the sweep of its name in `store` holds added beta values
+    /// its `[refine]` rule could not have added (another step, a smaller budget): a retuned
+    /// rule must hold what the earlier rounds added, or the store's own export would no longer
+    /// import. Nothing to check for a sweep not stored yet, or one that differs in more than
+    /// its rules (registration refuses that with the differences), or one without `[refine]`
+    /// (registration refuses dropping it).
+    pub fn check_stored_points(&self, store: &Store) -> Result<(), RetuneError> {
+        let id = match store.sweep_id(&self.name) {
+            Ok(id) => id,
+            Err(StoreError::UnknownSweep(_)) => return Ok(()),
+            Err(e) => return Err(e.into()),
+        };
+        let stored = store.sweep_spec(id)?;
+        let ours = self.canonical_json();
+        let rules_only = matches!(
+            spec_change(&stored, &ours),
+            SpecChange::Retuned | SpecChange::Grows { .. } | SpecChange::Shrinks { .. }
+        );
+        if !rules_only || self.refine.is_none() {
+            return Ok(());
+        }
+        let axes = store.point_axes(id, &|c| self.others_of_config(c))?;
+        self.points_with(axes)
+            .map(|_| ())
+            .map_err(|why| RetuneError::Refused {
+                name: self.name.clone(),
+                why,
+                stored: stored_refine(&stored),
+            })
+    }
+}
+
+/// The `[refine]` rule of a stored canonical definition, as `step 0.125, max_new_per_column 16`.
+fn stored_refine(spec: &str) -> String {
+    let v: serde_json::Value = serde_json::from_str(spec).unwrap_or_default();
+    let r = &v["refine"];
+    match (r["step"].as_f64(), r["max_new_per_column"].as_u64()) {
+        (Some(step), Some(n)) => format!("step {step}, max_new_per_column {n}"),
+        _ => "none".into(),
+    }
 }

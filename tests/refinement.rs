@@ -485,6 +485,27 @@ fn a_retuned_refine_rule_must_hold_the_values_earlier_rounds_added() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // Growing the replicates grows the added points too, not the grid's alone (issue 50, 4).
+    let grown = text
+        .replace("max_new_per_column = 6", "max_new_per_column = 8")
+        .replace("replicates = 40", "replicates = 42");
+    assert!(grown.contains("replicates = 42"));
+    std::fs::write(&toml, grown).unwrap();
+    let out = common::cellsweep_in(&dir, &["run", toml.to_str().unwrap(), "--db", "r.sqlite"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        common::query(
+            &db,
+            "SELECT COUNT(*) FROM (SELECT point_id FROM jobs GROUP BY point_id \
+             HAVING COUNT(*) != 42 OR SUM(state = 'done') != 42)"
+        ),
+        0,
+        "a point was left at its old replicates"
+    );
     let out = common::cellsweep_in(&dir, &["export", "--db", "r.sqlite", "--out", "back.csv"]);
     assert!(out.status.success());
     let out = common::cellsweep_in(&dir, &["import", "back.csv", "--db", "fresh.sqlite"]);

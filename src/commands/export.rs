@@ -222,7 +222,7 @@ fn import_into(
     targets: &[u32],
 ) -> anyhow::Result<(usize, usize)> {
     sweep
-        .check_stored_points(store)
+        .stored_points(store)
         .map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
     let retuned = match store.sweep_id(&sweep.name) {
         Ok(id) => matches!(

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::{
-    plan, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
+    plan, plan_in, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
 };
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_stats::Standing;
@@ -26,7 +26,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         super::dry_run::run(&sweep, &args.sweep, &args.db.db, workers)?;
         return Ok(0);
     }
-    let new = plan(&sweep, &args.sweep.display().to_string());
     // One writer per store: a second run (or submit, collect, import) is refused here.
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
@@ -34,9 +33,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     if !args.force {
         refuse_while_on_slurm(&store, &sweep.name)?;
     }
-    if !args.replace {
-        sweep.check_stored_points(&store)?;
-    }
+    let source = args.sweep.display().to_string();
+    let new = if args.replace {
+        plan(&sweep, &source)
+    } else {
+        plan_in(&sweep, &source, &store)?
+    };
     let reg = store.register(&new, args.replace)?;
     announce(&sweep, &new, &reg, &args.db.db);
 

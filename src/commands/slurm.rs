@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use cellsweep_scheduler::slurm::{self, SubmitOptions};
-use cellsweep_scheduler::{plan, SlurmError, StoreLock, Sweep};
+use cellsweep_scheduler::{plan, plan_in, SlurmError, StoreLock, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::{NewSweep, Store};
 
@@ -73,9 +73,11 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
     let _lock = StoreLock::acquire(&args.db.db)?;
     let mut store = Store::open_or_create(&args.db.db)?;
     store.check_integrity()?;
-    if !args.replace {
-        sweep.check_stored_points(&store)?;
-    }
+    let new = if args.replace {
+        new
+    } else {
+        plan_in(&sweep, &args.sweep.display().to_string(), &store)?
+    };
     let reg = store.register(&new, args.replace)?;
     if let Some(from) = reg.grown_from {
         println!(

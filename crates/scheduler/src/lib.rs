@@ -33,6 +33,6 @@ pub use error::{
 };
 pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};
-pub use plan::{plan, plan_targets};
+pub use plan::{plan, plan_in, plan_targets};
 pub use pool::WorkerCommand;
 pub use sweep::{RunSettings, Sweep};

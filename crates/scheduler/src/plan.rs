@@ -11,9 +11,10 @@ use std::collections::HashMap;
 
 use cellsweep_solver::seed::{derive, COLLISION_TAG, PREP_TAG};
 use cellsweep_solver::{Config, Params, Protocol, SOLVER_VERSION};
-use cellsweep_store::{NewJob, NewPoint, NewPrep, NewSweep};
+use cellsweep_store::{NewJob, NewPoint, NewPrep, NewSweep, Store};
 use serde_json::{json, Value};
 
+use crate::error::RetuneError;
 use crate::sweep::Sweep;
 
 /// FNV-1a, 64 bits: a stable hash of canonical text (not for security).
@@ -58,6 +59,17 @@ pub fn job_seed(sweep_seed: u64, params: &Params, replicate: u32) -> u64 {
 pub fn plan(sweep: &Sweep, source: &str) -> NewSweep {
     plan_targets(sweep, source, &sweep.points(), &|_| {
         sweep.initial_replicates()
+    })
+}
+
+/// The rows to register for `sweep` in `store` (from `source`): its grid's points and, where
+/// the store holds the sweep under other rules, the points its refinement added there
+/// ([`Sweep::stored_points`]: a grown sweep grows them too; a retuned rule that could not have
+/// added them is refused before anything is written).
+pub fn plan_in(sweep: &Sweep, source: &str, store: &Store) -> Result<NewSweep, RetuneError> {
+    Ok(match sweep.stored_points(store)? {
+        Some(points) => plan_targets(sweep, source, &points, &|_| sweep.initial_replicates()),
+        None => plan(sweep, source),
     })
 }
 

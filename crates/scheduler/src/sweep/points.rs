@@ -157,30 +157,31 @@ fn snap(v: f64) -> f64 {
 }
 
 impl Sweep {
-    /// Refuse this definition where the sweep of its name in `store` holds added beta values
-    /// its `[refine]` rule could not have added (another step, a smaller budget): a retuned
-    /// rule must hold what the earlier rounds added, or the store's own export would no longer
-    /// import. Nothing to check for a sweep not stored yet, or one that differs in more than
-    /// its rules (registration refuses that with the differences), or one without `[refine]`
-    /// (registration refuses dropping it).
-    pub fn check_stored_points(&self, store: &Store) -> Result<(), RetuneError> {
+    /// The points of this definition in `store`: where the sweep of its name is stored and
+    /// differs in its rules only (`replicates`, `[adaptive]`, `[refine]`), its grid's points
+    /// and those earlier refinement rounds added there (so that growing `replicates` grows
+    /// them too); None where there is nothing stored to hold (a new sweep, the very same
+    /// definition, another sweep under the name, which registration refuses with the
+    /// differences, or one without `[refine]`, whose dropping registration refuses). Refused
+    /// where its `[refine]` could not have added what the rounds added (another step, a
+    /// smaller budget): the store's own export would no longer import.
+    pub fn stored_points(&self, store: &Store) -> Result<Option<Vec<Params>>, RetuneError> {
         let id = match store.sweep_id(&self.name) {
             Ok(id) => id,
-            Err(StoreError::UnknownSweep(_)) => return Ok(()),
+            Err(StoreError::UnknownSweep(_)) => return Ok(None),
             Err(e) => return Err(e.into()),
         };
         let stored = store.sweep_spec(id)?;
-        let ours = self.canonical_json();
         let rules_only = matches!(
-            spec_change(&stored, &ours),
+            spec_change(&stored, &self.canonical_json()),
             SpecChange::Retuned | SpecChange::Grows { .. } | SpecChange::Shrinks { .. }
         );
         if !rules_only || self.refine.is_none() {
-            return Ok(());
+            return Ok(None);
         }
         let axes = store.point_axes(id, &|c| self.others_of_config(c))?;
         self.points_with(axes)
-            .map(|_| ())
+            .map(Some)
             .map_err(|why| RetuneError::Refused {
                 name: self.name.clone(),
                 why,

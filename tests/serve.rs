@@ -248,3 +248,46 @@ fn serve_binds_localhost_as_the_loopback() {
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A store replaced under a running `serve` (its files removed, another sweep run into the
+/// same path) is shown as the new store, not the deleted one (issue 50, 5).
+#[test]
+fn serve_follows_a_store_replaced_at_its_path() {
+    let dir = workdir("serve", "replaced");
+    let db = dir.join("s.sqlite");
+    common::write_sweep(&dir, "first", 1, "");
+    common::write_sweep(&dir, "second", 1, "");
+    let run = |name: &str| {
+        let out = common::cellsweep_in(&dir, &["run", &format!("{name}.toml"), "--db", "s.sqlite"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run("first");
+    let (mut child, url) = start_server(&dir, &db);
+    let shows = |name: &str| {
+        let t0 = Instant::now();
+        loop {
+            let (_, body) = request(&url, "GET", "/api/status");
+            if body.contains(&format!("\"{name}\"")) {
+                return body;
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(30),
+                "never showed {name}: {body}"
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    };
+    shows("first");
+    for tail in ["", "-wal", "-shm"] {
+        let _ = std::fs::remove_file(dir.join(format!("s.sqlite{tail}")));
+    }
+    run("second");
+    let body = shows("second");
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(!body.contains("\"first\""), "{body}");
+}

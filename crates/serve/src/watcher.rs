@@ -31,6 +31,9 @@ pub struct Live {
 pub struct Watcher {
     path: PathBuf,
     store: Option<Store>,
+    /// The file the store was opened from (device, inode): a store replaced at the path (its
+    /// files removed, another sweep run into it) is a new file, opened anew.
+    opened: Option<(u64, u64)>,
     seen_version: Option<i64>,
     gathered: Option<Instant>,
     min_interval: Duration,
@@ -43,6 +46,7 @@ impl Watcher {
         Watcher {
             path,
             store: None,
+            opened: None,
             seen_version: None,
             gathered: None,
             min_interval,
@@ -81,6 +85,11 @@ impl Watcher {
 
     /// A new snapshot if the store changed since the last, else None.
     fn look(&mut self) -> Option<Snapshot> {
+        let now = file_id(&self.path);
+        if self.store.is_some() && now != self.opened {
+            self.store = None;
+            self.seen_version = None;
+        }
         if self.store.is_none() {
             if !self.path.is_file() {
                 return Some(Snapshot::empty(
@@ -89,7 +98,10 @@ impl Watcher {
                 ));
             }
             match Store::open_read(&self.path) {
-                Ok(s) => self.store = Some(s),
+                Ok(s) => {
+                    self.store = Some(s);
+                    self.opened = now;
+                }
                 Err(e) => return Some(Snapshot::empty(&self.path, e.to_string())),
             }
         }
@@ -110,4 +122,10 @@ impl Watcher {
             }
         }
     }
+}
+
+/// The (device, inode) of the file at `path`, None where there is none.
+fn file_id(path: &std::path::Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt as _;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }

@@ -57,7 +57,15 @@ fn main() {
                 line.extend(text.lines().map(str::trim).filter(|l| {
                     l.starts_with("tip: a similar") || l.starts_with("tip: some similar")
                 }));
-                eprintln!("{}", line.join("; "));
+                // Lines after one ending in a colon continue it ("not provided: <SWEEP>").
+                let mut one = String::new();
+                for l in line {
+                    if !one.is_empty() {
+                        one.push_str(if one.ends_with(':') { " " } else { "; " });
+                    }
+                    one.push_str(l);
+                }
+                eprintln!("{one}");
                 std::process::exit(1);
             }
         };

@@ -360,10 +360,15 @@ fn a_killed_import_leaves_no_store_at_its_path_and_a_clean_run_no_lock_file() {
          [params]\nR0 = 24\n[protocol]\nsingle_lattice = [96, 96]\nrelax_time = 5\nfree_time = 150\ncollide_time = 2\n",
     )
     .unwrap();
-    ok(&cellsweep_in(
+    let said = ok(&cellsweep_in(
         &dir,
         &["run", "slow.toml", "--db", "r.sqlite"],
     ));
+    // One of each is said in the singular (issue 50, 6).
+    assert!(
+        said.contains("registered sweep \"slow\": 1 point x 1 replicate = 1 job, 1 prep"),
+        "{said}"
+    );
     // A run that ended leaves its store and nothing else (issue 50, 9).
     assert!(
         !dir.join("r.sqlite.lock").exists(),

@@ -3,6 +3,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use cellsweep_report::text::counted;
 use cellsweep_scheduler::{plan, Sweep};
 use cellsweep_solver::prep::{initial_circle, kick};
 use cellsweep_solver::resolution::to_lattice;
@@ -64,9 +65,11 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
             a.max_replicates
         ),
         None => println!(
-            "  {points} points x {} replicates = {budget} jobs, {} preps",
-            sweep.replicates,
-            new.preps.len()
+            "  {} x {} = {}, {}",
+            counted(points, "point"),
+            counted(sweep.replicates as usize, "replicate"),
+            counted(budget, "job"),
+            counted(new.preps.len(), "prep")
         ),
     }
     if let Some(r) = &sweep.refine {
@@ -102,15 +105,17 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
     let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
     println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
     println!(
-        "  to run now: {preps_left} preps and {jobs_left} collisions{}: {:.2} core-hours, about {} \
-         on {workers} workers",
+        "  to run now: {} and {}{}: {:.2} core-hours, about {} on {}",
+        counted(preps_left.max(0) as usize, "prep"),
+        counted(jobs_left.max(0) as usize, "collision"),
         if sweep.adaptive.is_some() {
             " (the first round; later rounds follow)"
         } else {
             ""
         },
         total / 3600.0,
-        hours(total / workers.max(1) as f64)
+        hours(total / workers.max(1) as f64),
+        counted(workers, "worker")
     );
     if let (Some(rule), Some(store)) = (&sweep.refine, &store) {
         if let Ok(id) = store.sweep_id(&sweep.name) {
@@ -147,14 +152,14 @@ fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Opti
         return Ok(None);
     };
     println!(
-        "  in {}: {} jobs done, {} pending, {} running, {} failed; {} of {} preps done",
+        "  in {}: {} done, {} pending, {} running, {} failed; {} of {} done",
         db.display(),
-        s.jobs.done,
+        counted(s.jobs.done as usize, "job"),
         s.jobs.pending,
         s.jobs.running,
         s.jobs.failed,
         s.preps_done,
-        s.preps_total
+        counted(s.preps_total as usize, "prep")
     );
     Ok(Some((
         s.jobs.pending + s.jobs.running,
@@ -174,8 +179,9 @@ fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, Strin
             m.prep_s.unwrap_or(0.0),
             m.collision_s.unwrap_or(0.0),
             format!(
-                "as measured in this store over {} preps and {} collisions",
-                m.preps, m.collisions
+                "as measured in this store over {} and {}",
+                counted(m.preps as usize, "prep"),
+                counted(m.collisions as usize, "collision")
             ),
         ),
         _ => {

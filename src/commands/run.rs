@@ -12,6 +12,7 @@ use cellsweep_stats::Standing;
 use cellsweep_store::{NewSweep, Registration, Store};
 
 use cellsweep_report::text;
+use cellsweep_report::text::counted;
 
 use crate::cli::RunArgs;
 use crate::progress::SweepBar;
@@ -110,23 +111,23 @@ fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
     };
     let shape = if sweep.adaptive.is_some() {
         format!(
-            "{} points x up to {} replicates (adaptive), {} jobs in the first round",
-            new.points.len(),
-            sweep.replicates,
-            n_jobs
+            "{} x up to {} (adaptive), {} in the first round",
+            counted(new.points.len(), "point"),
+            counted(sweep.replicates as usize, "replicate"),
+            counted(n_jobs, "job")
         )
     } else {
         format!(
-            "{} points x {} replicates = {} jobs",
-            new.points.len(),
-            sweep.replicates,
-            n_jobs
+            "{} x {} = {}",
+            counted(new.points.len(), "point"),
+            counted(sweep.replicates as usize, "replicate"),
+            counted(n_jobs, "job")
         )
     };
     println!(
-        "{verb} sweep {:?}: {shape}, {} preps, in {}",
+        "{verb} sweep {:?}: {shape}, {}, in {}",
         sweep.name,
-        new.preps.len(),
+        counted(new.preps.len(), "prep"),
         db.display()
     );
     if let Some(a) = &sweep.adaptive {

@@ -41,7 +41,11 @@ fn take_stock(
         println!(
             "  {} {} ended without a result ({}): a failed attempt each; {}: {}",
             k.count,
-            plural(k.count, "job or prep", "jobs or preps"),
+            if k.count == 1 {
+                "job or prep"
+            } else {
+                "jobs or preps"
+            },
             k.kind,
             if k.count == 1 {
                 "the reason"
@@ -52,14 +56,6 @@ fn take_stock(
         );
     }
     Ok(stock.queue)
-}
-
-fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
-    if n == 1 {
-        one
-    } else {
-        many
-    }
 }
 
 pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {

@@ -5,6 +5,11 @@ use crate::{all_ok, check, refused, store};
 
 /// (arguments, what the error must name).
 const FLAGS: &[(&[&str], &str)] = &[
+    // clap's own message, its lines joined where one ends in a colon (issue 50, 6).
+    (
+        &["run", "--db", "r.sqlite"],
+        "the following required arguments were not provided: <SWEEP>",
+    ),
     (
         &[
             "run",

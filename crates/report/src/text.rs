@@ -55,7 +55,11 @@ fn grid_of(pts: &[&Counts], title: &str) -> String {
     let betas = axis(pts.iter().map(|c| c.beta));
     let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
     let mut s = String::new();
-    let _ = writeln!(s, "{title} (up to {n} replicates per point)");
+    let _ = writeln!(
+        s,
+        "{title} (up to {} per point)",
+        counted(n as usize, "replicate")
+    );
     let _ = write!(s, "{:>10} |", "beta \\ alpha");
     for a in &alphas {
         let _ = write!(s, " {a:>5}");
@@ -157,5 +161,14 @@ mod tests {
             ],
             "{text}"
         );
+    }
+}
+
+/// `n` and its noun, singular or plural as English has it: "1 job", "12 jobs", "0 preps".
+pub fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
     }
 }

@@ -514,6 +514,45 @@ fn a_full_disk_puts_the_jobs_in_flight_back_and_names_the_store() {
     assert!(pending > 0);
 }
 
+/// Pictures on a full disk: refused in one line naming the file, and no empty or half
+/// picture left under any name (issue 50, 6).
+#[test]
+fn plot_on_a_full_disk_leaves_no_empty_picture() {
+    let dir = workdir("doors", "full-plot");
+    let mnt = dir.join("mnt");
+    std::fs::create_dir_all(&mnt).unwrap();
+    let sh = |cmd: &str| {
+        let out = Command::new("sh").arg("-c").arg(cmd).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{cmd}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    sh(&format!(
+        "mount -t tmpfs -o size=1m tmpfs {}",
+        mnt.display()
+    ));
+    std::fs::create_dir_all(mnt.join("p")).unwrap();
+    sh(&format!(
+        "dd if=/dev/zero of={}/fill bs=4k 2>/dev/null || true",
+        mnt.display()
+    ));
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/paper/refined-L90-sigma5.csv");
+    let out = cellsweep_in(
+        &dir,
+        &["plot", "--data", data.to_str().unwrap(), "--out", "mnt/p"],
+    );
+    let left: Vec<String> = std::fs::read_dir(mnt.join("p"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    sh(&format!("umount {}", mnt.display()));
+    let err = refused(&out, "mnt/p/");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
+
 #[test]
 fn every_committed_row_passes_the_import_field_checks() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/paper");

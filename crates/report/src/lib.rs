@@ -19,6 +19,7 @@ pub mod html;
 pub mod load;
 pub mod plot_files;
 pub mod text;
+pub mod whole_file;
 
 use cellsweep_stats::{AdaptiveRule, Assessment, Counts, RefineRule, Scales};
 

@@ -7,6 +7,7 @@ use cellsweep_plot::{Figure, RenderError};
 use cellsweep_stats::{fit_line, Method};
 
 use crate::collapse::{collapse_of, Placed};
+use crate::whole_file::write_whole;
 use crate::{figures, Results};
 
 /// A picture that could not be drawn or written.
@@ -37,9 +38,9 @@ fn write(
     written: &mut Vec<PathBuf>,
 ) -> Result<(), WriteError> {
     let svg = dir.join(format!("{stem}.svg"));
-    std::fs::write(&svg, fig.to_svg()).map_err(|e| WriteError::io(&svg, e))?;
+    write_whole(&svg, fig.to_svg().as_bytes()).map_err(|e| WriteError::io(&svg, e))?;
     let png = dir.join(format!("{stem}.png"));
-    std::fs::write(&png, fig.to_png(2.0)?).map_err(|e| WriteError::io(&png, e))?;
+    write_whole(&png, &fig.to_png(2.0)?).map_err(|e| WriteError::io(&png, e))?;
     written.extend([svg, png]);
     Ok(())
 }

@@ -237,10 +237,12 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
         fig.text(x + 14.0, y, 12.0, Anchor::Start, label);
         x += 34.0 + text_width(label, 12.0);
     }
-    if d.points
-        .iter()
-        .any(|p| p.freq.iter().any(|f| !f.is_finite()))
-    {
+    // A grey cell has no collision: its prep decided the point (it carries that mark), or it
+    // has not run yet (no mark): the legend names the cases the diagram has.
+    let empty = |p: &&Point| p.freq.iter().any(|f| !f.is_finite());
+    let decided = d.points.iter().filter(empty).any(|p| p.mark.is_some());
+    let waiting = d.points.iter().filter(empty).any(|p| p.mark.is_none());
+    if decided || waiting {
         fig.push(Shape::Rect {
             x,
             y: y - 12.0,
@@ -249,7 +251,11 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
             fill: Some(Color::LIGHT),
             stroke: Some(Color::GREY),
         });
-        let label = "no collision (prep unstable or broke up)";
+        let label = match (decided, waiting) {
+            (true, false) => "no collision (prep unstable or broke up)",
+            (false, _) => "not run yet",
+            (true, true) => "no collision (prep unstable or broke up, or not run yet)",
+        };
         fig.text(x + 20.0, y, 12.0, Anchor::Start, label);
     }
     let (mut x, y) = (70.0, y + 24.0);

@@ -135,3 +135,35 @@ fn snapshots_render_and_animate() {
     let g = gif(&[frame(), frame()], 20).unwrap();
     assert_eq!(&g[..6], b"GIF89a");
 }
+
+/// Grey cells are named for what they are: a point its prep decided, or one not run yet
+/// (a live page's diagram before its first results; issue 50, 6).
+#[test]
+fn the_legend_names_grey_cells_for_what_they_are() {
+    let grey = |mark: Option<Mark>| Point {
+        alpha: 0.1,
+        beta: 10.0,
+        mark,
+        freq: [f64::NAN; 3],
+        n: 0,
+        open: false,
+        boxed: false,
+        detail: String::new(),
+    };
+    let with = |points: Vec<Point>| {
+        diagram_figure(&Diagram {
+            title: "t".into(),
+            points,
+            lines: vec![],
+        })
+        .to_svg()
+    };
+    let waiting = with(vec![grey(None)]);
+    assert!(waiting.contains(">not run yet</text>"), "{waiting}");
+    assert!(!waiting.contains("prep unstable"));
+    let decided = with(vec![grey(Some(Mark::Unstable))]);
+    assert!(decided.contains("no collision (prep unstable or broke up)"));
+    assert!(!decided.contains("not run yet"));
+    let both = with(vec![grey(Some(Mark::Breakup)), grey(None)]);
+    assert!(both.contains("or not run yet"));
+}

@@ -62,11 +62,13 @@ fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str
             fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{a}"));
         }
     }
-    // An even axis: every k-th label; a refined one (values added between the grid's): a
-    // label where it keeps 16 px from the last one, from the bottom up.
-    let even = betas
-        .windows(2)
-        .all(|w| ((w[1] - w[0]) - (betas[1] - betas[0])).abs() <= 1e-9 * w[1].abs().max(1.0));
+    // Ticks at the grid's betas only (values a refinement added, a few tenths apart, would
+    // pile up into a black bar): an even axis labels every k-th, an uneven one a label where
+    // it keeps 16 px from the last, from the bottom up.
+    let even = betas.len() < 2
+        || betas
+            .windows(2)
+            .all(|w| ((w[1] - w[0]) - (betas[1] - betas[0])).abs() <= 1e-9 * w[1].abs().max(1.0));
     let every = betas.len().div_ceil(11).max(1);
     let mut last = f64::INFINITY;
     for (k, b) in betas.iter().enumerate() {
@@ -94,6 +96,29 @@ fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
                 dash: Some(8.0),
             });
         }
+    }
+}
+
+/// The grid's beta values: those held by more than half of the diagram's columns (a value a
+/// refinement added lies in one column or two). All of them where that leaves fewer than two.
+fn grid_betas(points: &[Point]) -> Vec<f64> {
+    let alphas = axis(points.iter().map(|p| p.alpha));
+    let all = axis(points.iter().map(|p| p.beta));
+    let grid: Vec<f64> = all
+        .iter()
+        .copied()
+        .filter(|&b| {
+            let columns = alphas
+                .iter()
+                .filter(|&&a| points.iter().any(|p| p.alpha == a && p.beta == b))
+                .count();
+            2 * columns > alphas.len()
+        })
+        .collect();
+    if grid.len() < 2 {
+        all
+    } else {
+        grid
     }
 }
 
@@ -131,14 +156,26 @@ fn beta_cells(points: &[Point], (lo, hi): (f64, f64)) -> Vec<(f64, f64)> {
 /// One point in panel `k` (0: its mark and replicate count, 1-3: its cell of the heat map of
 /// train, walk-past, reversal), grouped under its tooltip; `cw` is a grid cell's width in
 /// pixels, (b0, b1) the point's cell along beta.
-fn point_shapes(p: &Panel, pt: &Point, k: usize, cw: f64, (b0, b1): (f64, f64)) -> Shape {
+fn point_shapes(
+    p: &Panel,
+    pt: &Point,
+    k: usize,
+    cw: f64,
+    (b0, b1): (f64, f64),
+    added: bool,
+) -> Shape {
     let mut shapes = Figure::new(0, 0);
     let (x, y) = (p.px(pt.alpha), p.py(pt.beta));
     // (py runs down the page: the cell's top is at its higher beta.)
     let (top, ch) = (p.py(b1), p.py(b0) - p.py(b1));
     if k == 0 {
-        // (At least 2.5 px: a refined column's thin cells keep a visible mark.)
-        let r = (cw.min(ch) * 0.38).clamp(2.5, 14.0);
+        // A value a refinement added: a small mark (several lie a few tenths apart, where the
+        // column crosses); a grid point's fills its cell.
+        let r = if added {
+            3.5
+        } else {
+            (cw.min(ch) * 0.38).clamp(2.5, 14.0)
+        };
         if let Some(m) = pt.mark {
             draw_mark(&mut shapes, m, x, y, r);
         }
@@ -147,7 +184,7 @@ fn point_shapes(p: &Panel, pt: &Point, k: usize, cw: f64, (b0, b1): (f64, f64)) 
         }
         // Replicates per point, lower right of the mark; '+': an open adaptive point. Cells
         // too thin for it (refined values) leave it to the tooltip.
-        if ch >= 10.0 {
+        if ch >= 10.0 && !added {
             let n = format!("{}{}", pt.n, if pt.open { "+" } else { "" });
             shapes.text(x + r - 1.0, y + r + 3.0, 9.0, Anchor::Start, n);
         }
@@ -277,11 +314,19 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
         y + 24.0,
         12.0,
         Anchor::Start,
-        if d.points.iter().any(|p| p.open) {
-            "numbers: replicates per point (n); n+ : an adaptive point still taking rounds"
-        } else {
-            "numbers: replicates per point (n)"
-        },
+        format!(
+            "numbers: replicates per point (n){}{}",
+            if d.points.iter().any(|p| p.open) {
+                "; n+ : an adaptive point still taking rounds"
+            } else {
+                ""
+            },
+            if grid_betas(&d.points).len() < axis(d.points.iter().map(|p| p.beta)).len() {
+                "; small marks: beta values a refinement added (ticks at the grid's)"
+            } else {
+                ""
+            }
+        ),
     );
 }
 
@@ -289,6 +334,7 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
 pub fn diagram_figure(d: &Diagram) -> Figure {
     let alphas = axis(d.points.iter().map(|p| p.alpha));
     let betas = axis(d.points.iter().map(|p| p.beta));
+    let grid = grid_betas(&d.points);
     let (pw, ph) = (240.0, 300.0);
     let mut fig = Figure::new(4 * 310 + 110, 540);
     fig.text(20.0, 28.0, 18.0, Anchor::Start, d.title.clone());
@@ -314,10 +360,11 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
             by,
         };
         for (pt, &cell) in d.points.iter().zip(&cells) {
-            fig.push(point_shapes(&p, pt, k, cw, cell));
+            let added = !grid.contains(&pt.beta);
+            fig.push(point_shapes(&p, pt, k, cw, cell, added));
         }
         lines(&mut fig, &p, d);
-        frame(&mut fig, &p, &alphas, &betas, title);
+        frame(&mut fig, &p, &alphas, &grid, title);
     }
     colour_bar(&mut fig, 4.0 * 310.0 + 20.0, 76.0, ph);
     legend(&mut fig, d, 462.0);

@@ -167,3 +167,48 @@ fn the_legend_names_grey_cells_for_what_they_are() {
     let both = with(vec![grey(Some(Mark::Breakup)), grey(None)]);
     assert!(both.contains("or not run yet"));
 }
+
+/// A refined column (values a few tenths apart, in one column) keeps a legible axis: ticks and
+/// labels at the grid's betas only, the added values small and named in the legend (issue
+/// 50, 6: "17.75, 28.5, 40.375" piled up among the labels).
+#[test]
+fn refined_columns_keep_the_beta_axis_to_the_grid() {
+    let mut points = Vec::new();
+    let mark = |alpha: f64, beta: f64| Point {
+        alpha,
+        beta,
+        mark: Some(Mark::Train),
+        freq: [1.0, 0.0, 0.0],
+        n: 16,
+        open: false,
+        boxed: false,
+        detail: String::new(),
+    };
+    for alpha in [0.1, 0.12, 0.14] {
+        for k in 0..11 {
+            points.push(mark(alpha, 10.0 + 4.0 * k as f64));
+        }
+    }
+    for beta in [17.75, 17.875, 28.5, 40.375] {
+        points.push(mark(0.12, beta));
+    }
+    let svg = diagram_figure(&Diagram {
+        title: "t".into(),
+        points,
+        lines: vec![],
+    })
+    .to_svg();
+    for added in ["17.75", "17.875", "28.5", "40.375"] {
+        assert!(
+            !svg.contains(&format!(">{added}</text>")),
+            "{added} labelled"
+        );
+    }
+    for grid in ["10", "30", "50"] {
+        assert!(
+            svg.contains(&format!(">{grid}</text>")),
+            "{grid} not labelled"
+        );
+    }
+    assert!(svg.contains("small marks: beta values a refinement added"));
+}

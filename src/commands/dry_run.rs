@@ -7,13 +7,16 @@ use cellsweep_report::text::counted;
 use cellsweep_scheduler::{plan, Sweep};
 use cellsweep_solver::prep::{initial_circle, kick};
 use cellsweep_solver::resolution::to_lattice;
-use cellsweep_solver::{Cell, Fibers, Lattice, SOLVER_VERSION};
+use cellsweep_solver::{Cell, Fibers, Lattice, Params, Precision, Real, SOLVER_VERSION};
 use cellsweep_store::{MeasuredCost, Store};
 
 /// Seconds per single-cell step on the first point's lattice, from a short measurement here,
 /// and the mean over the points of their lattice's sites over the first's (lattices that
 /// follow R0 differ from point to point).
-fn single_step_s(sweep: &Sweep) -> (f64, f64) {
+/// Seconds per single-cell step measured here: in f64 (the prep's precision) and in the
+/// collision's precision (f32 steps are faster), and the sweep's mean lattice size relative to
+/// its first point's.
+fn single_step_s(sweep: &Sweep) -> (f64, f64, f64) {
     let points = sweep.points();
     let params = &points[0];
     let sites = |p| {
@@ -28,15 +31,35 @@ fn single_step_s(sweep: &Sweep) -> (f64, f64) {
     let fibers = Fibers::at_resolution(params, ny, protocol.resolution);
     let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
     kick(&lat, &mut cell);
+    let f64_step = best_step_s(&mut cell, &lat, &fibers, params);
+    let collision_step = match protocol.precision {
+        Precision::F64 => f64_step,
+        Precision::F32 => best_step_s(
+            &mut cell.convert::<f32>(&lat, &fibers),
+            &lat,
+            &fibers,
+            params,
+        ),
+    };
+    (f64_step, collision_step, scale)
+}
+
+/// The fastest of 4 timings of 20 steps of `cell`, per step.
+fn best_step_s<T: Real>(
+    cell: &mut Cell<T>,
+    lat: &Lattice,
+    fibers: &Fibers,
+    params: &Params,
+) -> f64 {
     let mut best = f64::INFINITY;
     for _ in 0..4 {
         let t = Instant::now();
         for _ in 0..20 {
-            cell.step(&lat, &fibers, params, [0.05, -0.03], true, false);
+            cell.step(lat, fibers, params, [0.05, -0.03], true, false);
         }
         best = best.min(t.elapsed().as_secs_f64() / 20.0);
     }
-    (best, scale)
+    best
 }
 
 fn hours(s: f64) -> String {
@@ -185,16 +208,22 @@ fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, Strin
             ),
         ),
         _ => {
-            let (step, scale) = single_step_s(sweep);
-            let step = step * scale;
+            let (step, collision_step, scale) = single_step_s(sweep);
+            let (step, collision_step) = (step * scale, collision_step * scale);
             let sites = |l: [usize; 2]| (l[0] * l[1]) as f64;
             let ratio = 2.0 * sites(p.pair_lattice) / sites(p.single_lattice);
+            let precision = match p.precision {
+                Precision::F64 => String::new(),
+                Precision::F32 => {
+                    format!(", {:.2} ms in the collision's f32", collision_step * 1e3)
+                }
+            };
             (
                 step * (steps(p.relax_time) + steps(p.free_time)),
-                step * ratio * steps(p.collide_time),
+                collision_step * ratio * steps(p.collide_time),
                 format!(
-                    "from a single-cell step of {:.2} ms measured here; a collision at most \
-                     (per-cell windows and early stopping make most far cheaper)",
+                    "from a single-cell step of {:.2} ms measured here (f64){precision}; a \
+                     collision at most (per-cell windows and early stopping make most far cheaper)",
                     step * 1e3
                 ),
             )

@@ -327,3 +327,67 @@ fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// "Is it converged?" (issue 48, 4): variants of the numerics passed with --variants are
+/// compared column by column with the shown diagram, as `cellsweep converge` compares them,
+/// and are never shown as diagrams themselves.
+#[test]
+fn the_report_compares_variants_of_the_numerics_with_the_shown_columns() {
+    let dir = workdir("report", "variants");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let base = root.join("data/paper/refined-L70-sigma5.csv");
+    let variant = root.join("data/convergence/conv-dt-half-L70-sigma5.csv");
+    let page = dir.join("r.html");
+    let (b, v, p) = (
+        base.to_str().unwrap(),
+        variant.to_str().unwrap(),
+        page.to_str().unwrap(),
+    );
+    ok(&cellsweep(&[
+        "report",
+        "--data",
+        b,
+        "--variants",
+        v,
+        "--out",
+        p,
+    ]));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert_self_contained(&html);
+    let section = &html[html.find("id=\"converged\"").unwrap()..];
+    let section = &section[..section.find("<h2").unwrap_or(section.len())];
+    let row = section
+        .lines()
+        .find(|l| l.starts_with("<tr><td>conv-dt-half-L70-sigma5</td>"))
+        .unwrap_or_else(|| panic!("no row for the variant: {section}"));
+    // The same column both sides, with a verdict the difference's interval gives.
+    assert!(
+        row.contains("<td class=\"num\">70</td><td class=\"num\">5</td><td class=\"num\">0.1</td>"),
+        "{row}"
+    );
+    let converge = cellsweep(&[
+        "converge",
+        "--baseline",
+        b,
+        "--variant",
+        v,
+        "--format",
+        "csv",
+    ]);
+    let csv = ok(&converge);
+    let line = csv.lines().find(|l| l.contains(",70,5,0.1,")).unwrap();
+    let verdict = line.rsplit(',').next().unwrap();
+    assert!(
+        row.contains(&format!(" {verdict}</span>")),
+        "{row} against {line}"
+    );
+    // The variant is not a diagram of the page.
+    assert!(
+        !html.contains("conv-dt-half-L70-sigma5: L = 70"),
+        "shown as a diagram"
+    );
+    // Without variants the section says how to get them.
+    ok(&cellsweep(&["report", "--data", b, "--out", p]));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("No variant is loaded"));
+}

@@ -280,6 +280,11 @@ pub struct ReportArgs {
     /// data/collapse`).
     #[arg(long, value_name = "DIR|FILE.csv")]
     pub data: Vec<std::path::PathBuf>,
+    /// Exports of variants of the numerics (a folder of them, e.g. data/convergence, or one
+    /// file; give it again to add more): compared column by column with the shown diagrams
+    /// under "Is it converged?", never shown as diagrams themselves.
+    #[arg(long, value_name = "DIR|FILE.csv")]
+    pub variants: Vec<std::path::PathBuf>,
     /// The HTML file to write.
     #[arg(long, value_name = "FILE.html")]
     pub out: std::path::PathBuf,

@@ -31,7 +31,14 @@ pub fn run(args: ReportArgs) -> anyhow::Result<()> {
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs() as i64);
-    let html = cellsweep_report::render(&results, &cellsweep_report::html::utc_stamp(now));
+    let mut variants = Vec::new();
+    for dir in &args.variants {
+        for f in export_files(dir)? {
+            variants.push(cellsweep_report::load::from_export(&f)?);
+        }
+    }
+    let html =
+        cellsweep_report::render(&results, &variants, &cellsweep_report::html::utc_stamp(now));
     let out = &args.out;
     crate::output::replace_file(out, |w| Ok(std::io::Write::write_all(w, html.as_bytes())?))?;
     println!("wrote {} ({})", out.display(), summary(&results));

@@ -11,12 +11,14 @@ use crate::collection::PAPER_DIAGRAMS;
 use crate::Results;
 
 mod collapse;
+mod convergence;
 mod diagrams;
 mod line;
 mod provenance;
 mod shift;
 
 use collapse::collapse_section;
+use convergence::convergence_section;
 use diagrams::{checks_section, diagrams_section};
 use line::{columns_section, cost_section, fit_section};
 use provenance::provenance_section;
@@ -91,8 +93,10 @@ fn verdict_class(v: Verdict) -> &'static str {
     }
 }
 
-/// Write the whole report of `all` (generated at `generated`, a time stamp).
-pub fn render(all: &[Results], generated: &str) -> String {
+/// Write the whole report of `all` (generated at `generated`, a time stamp), with `variants`
+/// (result sets of the numerics' variants, never shown as diagrams) compared column by column
+/// against the shown diagrams.
+pub fn render(all: &[Results], variants: &[Results], generated: &str) -> String {
     let an = Analysis::of(all);
     let claims = evaluate(&an);
     let mut h = String::new();
@@ -108,6 +112,7 @@ pub fn render(all: &[Results], generated: &str) -> String {
     fit_section(&mut h, &an);
     collapse_section(&mut h, &an);
     columns_section(&mut h, &an);
+    convergence_section(&mut h, &an, variants);
     cost_section(&mut h, &an);
     diagrams_section(&mut h, &an);
     checks_section(&mut h, &an);
@@ -167,7 +172,8 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
          collisions. Of the paper's {} claims checked below, {} are reproduced, {} partly, {} \
          not, and {} wait for diagrams not yet run.</p>\n{running}\
          <nav><a href=\"#claims\">Claims</a><a href=\"#fit\">The line</a><a href=\"#collapse\">One line?</a>\
-         <a href=\"#columns\">β* per column</a><a href=\"#diagrams\">Diagrams</a>\
+         <a href=\"#columns\">β* per column</a><a href=\"#converged\">Converged?</a>\
+         <a href=\"#diagrams\">Diagrams</a>\
          <a href=\"#checks\">Speed and spindle</a><a href=\"#provenance\">Provenance</a></nav>\n",
         escape(generated),
         claims.len(),

@@ -25,7 +25,13 @@ fn column_line(c: &Column) -> String {
     }
     let primary = match (c.beta_star, &c.skipped) {
         (Some(b), _) => format!("beta* = {}", with_interval(b, c.beta_ci)),
-        (None, why) => format!("no beta*: {}", why.as_deref().unwrap_or("no crossing")),
+        (None, why) => format!(
+            "no beta*: {}{}",
+            why.as_deref().unwrap_or("no crossing"),
+            c.censored_above.map_or(String::new(), |v| format!(
+                "; the line counts it as censored (beta* above {v})"
+            ))
+        ),
     };
     if c.method == Method::Interpolate {
         return format!("{head}  {primary}");

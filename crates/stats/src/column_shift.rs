@@ -132,6 +132,7 @@ mod tests {
             interpolated: None,
             interpolated_ci: None,
             model: None,
+            censored_above: None,
         }
     }
 

@@ -60,6 +60,26 @@ pub fn chi_square_survival(x: f64, df: f64) -> f64 {
     gamma_q(df / 2.0, x / 2.0)
 }
 
+/// P(Z > z) for a standard normal Z: erfc(z / sqrt 2) / 2 = Q(1/2, z^2 / 2) / 2.
+pub fn normal_upper_tail(z: f64) -> f64 {
+    let half = 0.5 * gamma_q(0.5, 0.5 * z * z);
+    if z >= 0.0 {
+        half
+    } else {
+        1.0 - half
+    }
+}
+
+/// The inverse Mills ratio phi(z) / P(Z > z): the mean of a standard normal above z is this.
+pub fn inverse_mills(z: f64) -> f64 {
+    if z > 8.0 {
+        // The asymptotic series (the tail's own ratio underflows first).
+        return z + 1.0 / z - 2.0 / z.powi(3);
+    }
+    let density = (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
+    density / normal_upper_tail(z)
+}
+
 /// The 95% quantile of F(1, df): the square of Student's t at 97.5%, from
 /// P(F > f) = I_{df / (df + f)}(df / 2, 1 / 2).
 pub fn f1_quantile_95(df: f64) -> f64 {

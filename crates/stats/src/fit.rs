@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use crate::axes::{ColumnKey, Others};
-use crate::column_model::{fit_column, ColumnModel, WalkTrain};
+use crate::column_model::{fit_column, ColumnModel, NoModelCrossing, WalkTrain};
 use crate::counts::Counts;
 use crate::interpolation::{crossing, least_squares, resample_diffs};
 use crate::model_line::{line_from_columns, Crossing};
@@ -120,6 +120,10 @@ pub struct Column {
     /// The model's fit (slope, deviance, dispersion), where it gives a crossing.
     #[serde(default)]
     pub model: Option<ColumnModel>,
+    /// A column open at the grid's last beta (walk-past reaches one half only there): its
+    /// beta* lies above this value, and the model's line counts it so (censored, SPEC 6).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub censored_above: Option<f64>,
 }
 
 impl Column {
@@ -221,6 +225,7 @@ pub(crate) fn columns(
                 interpolated: beta_star,
                 interpolated_ci: None,
                 model: None,
+                censored_above: None,
             }
         })
         .collect()
@@ -285,6 +290,9 @@ pub(crate) fn read_columns(
                         c.model = Some(m);
                     }
                     Err(why) => {
+                        if let NoModelCrossing::Open { side: "last", beta } = why {
+                            c.censored_above = Some(beta);
+                        }
                         (c.beta_star, c.beta_ci, c.skipped) = (None, None, Some(why.to_string()))
                     }
                 }
@@ -334,7 +342,11 @@ pub fn fit_columns(columns: Vec<Column>, draws: usize, seed: u64) -> Result<Fit,
     if distinct_x(&points_of(&columns)) < 2 {
         return Err(NoFit::of(columns));
     }
-    match line_from_columns(&crossings(&columns), draws, seed) {
+    let censored: Vec<(f64, f64)> = columns
+        .iter()
+        .filter_map(|c| Some((c.x, c.censored_above?)))
+        .collect();
+    match line_from_columns(&crossings(&columns), &censored, draws, seed) {
         Some(l) => Ok(Fit {
             a: l.a,
             b: l.b,

@@ -88,6 +88,30 @@ pub(crate) fn weighted_line(pts: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
     Some((a, my - a * mx))
 }
 
+/// The sd given a censored column: the median sd of the points (x, y, 1 / sd^2), widened by
+/// Birge's ratio `scatter`.
+fn censored_sd(pts: &[(f64, f64, f64)], scatter: f64) -> f64 {
+    let mut sds: Vec<f64> = pts.iter().map(|p| 1.0 / p.2.sqrt()).collect();
+    sds.sort_by(f64::total_cmp);
+    sds[sds.len() / 2] * scatter
+}
+
+/// The line through points (x, y, 1 / sd^2) and the columns censored above (x, c): the
+/// weighted line where none is censored, else the Tobit line (each censored column with the
+/// median sd widened by the points' Birge ratio about the weighted line). None without two
+/// distinct x among the points.
+pub(crate) fn line_with_censored(
+    pts: &[(f64, f64, f64)],
+    censored: &[(f64, f64)],
+) -> Option<(f64, f64)> {
+    let (a, b) = weighted_line(pts)?;
+    if censored.is_empty() {
+        return Some((a, b));
+    }
+    let scatter = birge(pts.iter().map(|p| (p.1 - (a * p.0 + b)) * p.2.sqrt()), 2);
+    Some(censored_line(pts, censored, censored_sd(pts, scatter), (a, b)))
+}
+
 /// The Tobit line by EM from `start`: the weighted fit of `pts` with each censored column
 /// (x, c) at its normal's mean above c (sd `s`), repeated until the line stops moving. `start`
 /// itself without censored columns.
@@ -155,9 +179,7 @@ pub(crate) fn line_from_columns(
             .map(|c| (c.star - (a0 * c.x + b0)) / c.sd().max(1e-3)),
         2,
     );
-    let mut sds: Vec<f64> = cs.iter().map(|c| c.sd().max(1e-3)).collect();
-    sds.sort_by(f64::total_cmp);
-    let s_censored = sds[sds.len() / 2] * scatter;
+    let s_censored = censored_sd(&pts, scatter);
     let (a, b) = censored_line(&pts, censored, s_censored, (a0, b0));
     let my = cs.iter().map(|c| c.star).sum::<f64>() / cs.len() as f64;
     let ss_tot: f64 = cs.iter().map(|c| (c.star - my).powi(2)).sum();

@@ -21,7 +21,7 @@ use crate::column_shift::{column_shifts, ColumnShifts};
 use crate::counts::Counts;
 use crate::fit::{columns, read_columns, Column, Method, Scales};
 use crate::interpolation::resample_diffs;
-use crate::model_line::{birge, weighted_line};
+use crate::model_line::{birge, line_with_censored};
 use crate::sampling::percentile_95;
 
 /// The paper's shift (its appendix): 0.0134 in alpha from sigma = 5 to sigma = 0.
@@ -70,7 +70,13 @@ fn solve(cols: &[Column], scales: &Scales, weight: &Weight) -> Option<(f64, f64,
         .filter(|c| c.sigma == 5.0)
         .filter_map(|c| Some((raw(c), c.beta_star?, weight(c)?)))
         .collect();
-    let (a, b) = weighted_line(&five)?;
+    // Columns open at sigma = 5 enter the line censored, as in `fit` (SPEC section 6).
+    let censored: Vec<(f64, f64)> = cols
+        .iter()
+        .filter(|c| c.sigma == 5.0)
+        .filter_map(|c| Some((raw(c), c.censored_above?)))
+        .collect();
+    let (a, b) = line_with_censored(&five, &censored)?;
     let (mut num, mut den) = (0.0, 0.0);
     for c in cols.iter().filter(|c| c.sigma == 0.0) {
         if let (Some(star), Some(w)) = (c.beta_star, weight(c)) {

@@ -109,7 +109,12 @@ pub(crate) fn line_with_censored(
         return Some((a, b));
     }
     let scatter = birge(pts.iter().map(|p| (p.1 - (a * p.0 + b)) * p.2.sqrt()), 2);
-    Some(censored_line(pts, censored, censored_sd(pts, scatter), (a, b)))
+    Some(censored_line(
+        pts,
+        censored,
+        censored_sd(pts, scatter),
+        (a, b),
+    ))
 }
 
 /// The Tobit line by EM from `start`: the weighted fit of `pts` with each censored column

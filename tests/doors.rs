@@ -668,3 +668,38 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
     ));
     assert_eq!(common::result_rows(&db, "door"), before);
 }
+
+/// Box-limited points (SPEC 4.5; issue 48, 1) are counted and listed by `status` (text and
+/// JSON) as `table` marks them: a cell prepped in a box too narrow for it.
+#[test]
+fn status_lists_the_box_limited_points() {
+    let dir = workdir("doors", "box");
+    std::fs::write(
+        dir.join("bx.toml"),
+        "name = \"bx\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
+         [params]\nR0 = 24\n[protocol]\nsingle_lattice = [72, 96]\npair_lattice = [144, 96]\n\
+         relax_time = 5\nfree_time = 10\ncollide_time = 2\n",
+    )
+    .unwrap();
+    ok(&cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]));
+    let table = ok(&cellsweep_in(&dir, &["table", "--db", "b.sqlite"]));
+    assert!(
+        table.contains("[box]") && table.contains("(1 point)"),
+        "{table}"
+    );
+    let status = ok(&cellsweep_in(&dir, &["status", "--db", "b.sqlite"]));
+    assert!(
+        status.contains("box      1 box-limited point (SPEC 4.5")
+            && status.contains("alpha = 0.1, beta = 10, L = 48, sigma = 5"),
+        "{status}"
+    );
+    let json = ok(&cellsweep_in(
+        &dir,
+        &["status", "--db", "b.sqlite", "--json"],
+    ));
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        v[0]["box_limited"],
+        serde_json::json!(["alpha = 0.1, beta = 10, L = 48, sigma = 5"])
+    );
+}

@@ -291,3 +291,34 @@ fn serve_follows_a_store_replaced_at_its_path() {
     let _ = child.wait();
     assert!(!body.contains("\"first\""), "{body}");
 }
+
+/// The live page counts and lists box-limited points as `status` does (issue 48, 1).
+#[test]
+fn serve_lists_the_box_limited_points() {
+    let dir = workdir("serve", "box");
+    std::fs::write(
+        dir.join("bx.toml"),
+        "name = \"bx\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
+         [params]\nR0 = 24\n[protocol]\nsingle_lattice = [72, 96]\npair_lattice = [144, 96]\n\
+         relax_time = 5\nfree_time = 10\ncollide_time = 2\n",
+    )
+    .unwrap();
+    let out = common::cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (mut child, url) = start_server(&dir, &dir.join("b.sqlite"));
+    let (_, json) = request(&url, "GET", "/api/status");
+    let (_, page) = request(&url, "GET", "/");
+    let _ = child.kill();
+    let _ = child.wait();
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        v["sweeps"][0]["box_limited"],
+        serde_json::json!(["alpha = 0.1, beta = 10, L = 48, sigma = 5"]),
+        "{json}"
+    );
+    assert!(page.contains("data-field=\"box-limited\">1<"), "{page}");
+}

@@ -6,6 +6,14 @@ use cellsweep_store::{Store, SweepStatus};
 use serde_json::Value;
 
 use crate::cli::StatusArgs;
+
+/// The sweep's box-limited points (SPEC 4.5), read as `table` reads them; none where its
+/// results cannot be read (another solver version's, say).
+fn box_limited(db: &std::path::Path, sweep: &str) -> Vec<String> {
+    cellsweep_report::load::from_store(db, Some(sweep))
+        .map(|r| r.box_limited_points())
+        .unwrap_or_default()
+}
 use cellsweep_stats::throughput::speed_line;
 
 pub fn outcome_line(o: &Tally) -> String {
@@ -33,6 +41,7 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             "{}",
             serde_json::to_string_pretty(&json_rows(
                 &store,
+                &args.db.db,
                 &all,
                 args.failed,
                 cellsweep_scheduler::StoreLock::is_held(&args.db.db)
@@ -45,7 +54,7 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     }
     let live = cellsweep_scheduler::StoreLock::is_held(&args.db.db);
     for s in &all {
-        print_sweep(&store, s, args.failed, live)?;
+        print_sweep(&store, &args.db.db, s, args.failed, live)?;
     }
     Ok(())
 }
@@ -54,6 +63,7 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
 /// failures (with `--failed`) and Slurm arrays where it has them.
 fn json_rows(
     store: &Store,
+    db: &std::path::Path,
     all: &[SweepStatus],
     failed: bool,
     live: bool,
@@ -62,6 +72,9 @@ fn json_rows(
     for s in all {
         let mut v = serde_json::to_value(s)?;
         v["live"] = serde_json::json!(live);
+        if s.solver_version == SOLVER_VERSION {
+            v["box_limited"] = serde_json::json!(box_limited(db, &s.sweep));
+        }
         let arrays = match store.sweep_id(&s.sweep) {
             Ok(id) => store.arrays_of(id, &s.solver_version)?,
             Err(_) => Vec::new(),
@@ -88,7 +101,13 @@ fn json_rows(
 /// One sweep's status in a few lines.
 /// `live`: whether a writer holds the store now (else jobs marked running were left by a run
 /// that died, and no ETA is given).
-fn print_sweep(store: &Store, s: &SweepStatus, failed: bool, live: bool) -> anyhow::Result<()> {
+fn print_sweep(
+    store: &Store,
+    db: &std::path::Path,
+    s: &SweepStatus,
+    failed: bool,
+    live: bool,
+) -> anyhow::Result<()> {
     let j = &s.jobs;
     let current = if s.solver_version == SOLVER_VERSION {
         ""
@@ -125,6 +144,15 @@ fn print_sweep(store: &Store, s: &SweepStatus, failed: bool, live: bool) -> anyh
     }
     if s.solver_version == SOLVER_VERSION {
         print_refinement(store, &s.sweep)?;
+        let boxed = box_limited(db, &s.sweep);
+        if !boxed.is_empty() {
+            println!(
+                "  box      {} (SPEC 4.5: the prepped cell leaves its fronts under 0.35 Nx_s \
+                 apart, so the outcome depends on the pair lattice): {}",
+                cellsweep_report::text::counted(boxed.len(), "box-limited point"),
+                boxed.join("; ")
+            );
+        }
     }
     if let Ok(id) = store.sweep_id(&s.sweep) {
         print_arrays(store, &s.sweep, id, &s.solver_version)?;

@@ -38,7 +38,10 @@ fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
     println!("{LEGEND}");
     let boxed = counts.iter().filter(|c| c.box_limited).count();
     if boxed > 0 {
-        println!("{BOX_LEGEND} ({boxed} points)");
+        println!(
+            "{BOX_LEGEND} ({})",
+            cellsweep_report::text::counted(boxed, "point")
+        );
     }
     println!();
     let mut head = format!(

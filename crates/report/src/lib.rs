@@ -42,6 +42,23 @@ pub struct Results {
 }
 
 impl Results {
+    /// The points flagged box-limited (SPEC section 4.5: a prepped cell leaves its fronts
+    /// under 0.35 Nx_s apart, so the outcome depends on the pair lattice), each as
+    /// "alpha = 0.1, beta = 34, L = 70, sigma = 5": what `status`, the live page and the report
+    /// list.
+    pub fn box_limited_points(&self) -> Vec<String> {
+        self.counts
+            .iter()
+            .filter(|c| c.box_limited)
+            .map(|c| {
+                format!(
+                    "alpha = {}, beta = {}, L = {}, sigma = {}",
+                    c.alpha, c.beta, c.L, c.sigma
+                )
+            })
+            .collect()
+    }
+
     /// These results with only the points `keep` holds (their standings and prep speeds
     /// follow them).
     pub fn only(self, keep: impl Fn(&Counts) -> bool) -> Results {

@@ -217,6 +217,17 @@ fn rounds(h: &mut String, v: &SweepView) {
         "<p>points: <span data-field=\"points\">{}</span>{refined}</p>",
         v.points
     );
+    if !v.box_limited.is_empty() {
+        let _ = writeln!(
+            h,
+            "<p>box-limited: <span data-field=\"box-limited\">{}</span> \
+             <span class=\"small\">(SPEC 4.5: the prepped cell leaves its fronts under \
+             0.35 Nx<sub>s</sub> apart, so the outcome depends on the pair lattice; squares in \
+             the diagrams): {}</span></p>",
+            v.box_limited.len(),
+            escape(&v.box_limited.join("; "))
+        );
+    }
 }
 
 fn failures(h: &mut String, v: &SweepView) {

@@ -31,6 +31,8 @@ pub struct SweepView {
     /// Points registered, and of them those refinement added between the grid's betas.
     pub points: usize,
     pub refined_points: Option<usize>,
+    /// Its box-limited points (SPEC 4.5), as `status` lists them.
+    pub box_limited: Vec<String>,
     pub failures: Vec<Failure>,
     /// The command that puts the failures back to pending and runs them.
     pub retry: Option<String>,
@@ -128,16 +130,19 @@ fn sweep_view(store: &Store, path: &Path, status: SweepStatus) -> Result<SweepVi
         .unwrap_or(0);
     let j = &status.jobs;
     let finished = j.pending == 0 && j.running == 0 && open == 0;
-    let diagrams = match (current, points.len()) {
+    let loaded = match (current, points.len()) {
         (false, _) => Err("only the current solver version's results are drawn".to_string()),
         (true, n) if n > MAX_LIVE_POINTS => Err(format!(
             "{n} points: too many to redraw live (cellsweep plot --db {} draws them)",
             path.display()
         )),
-        (true, _) => load::from_store(path, Some(&status.sweep))
-            .map(|r| draw(&r))
-            .map_err(|x| e(&x)),
+        (true, _) => load::from_store(path, Some(&status.sweep)).map_err(|x| e(&x)),
     };
+    let box_limited = loaded
+        .as_ref()
+        .map(|r| r.box_limited_points())
+        .unwrap_or_default();
+    let diagrams = loaded.map(|r| draw(&r));
     Ok(SweepView {
         live: false,
         current,
@@ -145,6 +150,7 @@ fn sweep_view(store: &Store, path: &Path, status: SweepStatus) -> Result<SweepVi
         standings,
         points: points.len(),
         refined_points,
+        box_limited,
         failures,
         retry,
         arrays,

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use cellsweep_report::{figures, load, Results};
+use cellsweep_scheduler::slurm::shell_quote;
 use cellsweep_scheduler::Ledger;
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::{Failure, SlurmArray, Store, SweepStatus};
@@ -180,37 +181,4 @@ fn retry_command(store: &Store, sweep_id: i64, db: &Path) -> String {
         file.map_or("SWEEP.toml".to_string(), |f| shell_quote(&f)),
         shell_quote(&db.display().to_string())
     )
-}
-
-/// `s` as one word for a POSIX shell: bare when it is plainly safe, else in single quotes.
-pub fn shell_quote(s: &str) -> String {
-    let plain = !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
-    match plain {
-        true => s.to_string(),
-        false => format!("'{}'", s.replace('\'', "'\\''")),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::shell_quote;
-
-    #[test]
-    fn a_quoted_word_survives_the_shell() {
-        assert_eq!(shell_quote("sweeps/a.toml"), "sweeps/a.toml");
-        assert_eq!(shell_quote("a b"), "'a b'");
-        assert_eq!(shell_quote("it's $(x)"), "'it'\\''s $(x)'");
-        assert_eq!(shell_quote(""), "''");
-        // The shell gives the word back unchanged.
-        for s in ["it's $(touch x) `y` \"z\"", "plain", "a\nb"] {
-            let out = std::process::Command::new("sh")
-                .arg("-c")
-                .arg(format!("printf %s {}", shell_quote(s)))
-                .output()
-                .unwrap();
-            assert_eq!(String::from_utf8_lossy(&out.stdout), s);
-        }
-    }
 }

@@ -21,9 +21,17 @@ pub fn max_array_size() -> Option<usize> {
         .and_then(|v| v.trim().parse().ok())
 }
 
-/// A word for the shell, in single quotes (a quote inside becomes '\'').
+/// `s` as one word for a POSIX shell: bare when it is plainly safe, else in single quotes (a
+/// quote inside becomes '\''). The one quoting of the project: sbatch scripts and the commands
+/// the live page offers.
 pub fn shell_quote(s: &str) -> String {
-    format!("'{}'", s.replace('\'', "'\\''"))
+    let plain = !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
+    match plain {
+        true => s.to_string(),
+        false => format!("'{}'", s.replace('\'', "'\\''")),
+    }
 }
 
 impl SubmitOptions {
@@ -131,4 +139,26 @@ pub(super) fn sbatch(script: &Path, dependency: Option<&str>) -> Result<String, 
         return Err(failed(format!("it printed no job id ({:?})", out.trim())));
     }
     Ok(id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shell_quote;
+
+    #[test]
+    fn a_quoted_word_survives_the_shell() {
+        assert_eq!(shell_quote("sweeps/a.toml"), "sweeps/a.toml");
+        assert_eq!(shell_quote("a b"), "'a b'");
+        assert_eq!(shell_quote("it's $(x)"), "'it'\\''s $(x)'");
+        assert_eq!(shell_quote(""), "''");
+        // The shell gives the word back unchanged.
+        for s in ["it's $(touch x) `y` \"z\"", "plain", "a\nb"] {
+            let out = std::process::Command::new("sh")
+                .arg("-c")
+                .arg(format!("printf %s {}", shell_quote(s)))
+                .output()
+                .unwrap();
+            assert_eq!(String::from_utf8_lossy(&out.stdout), s);
+        }
+    }
 }

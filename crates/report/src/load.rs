@@ -106,12 +106,13 @@ fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results,
         }
     }
     let mut counts = counts_of(&ends, &speeds);
-    // SPEC 4.5: a point is box-limited where one of its prepped cells is, on its own lattices;
-    // and the drops its collisions shed.
+    // SPEC 4.5: a point is box-limited where one of its prepped cells that collided is, on its
+    // own lattices (a prep that broke up or let go of a fiber decides its point with no
+    // collision: no pair lattice is involved); and the drops its collisions shed.
     for (r, at) in rows.iter().zip(&axes) {
         if let Some(i) = index.of(at) {
             counts[i].sheddings += u64::from(r.sheddings);
-            if let Some(extent) = r.prep_extent {
+            if let Some(extent) = r.prep_extent.filter(|_| r.verdict == "ok") {
                 let protocol = sweep.protocol_for(&points[i]);
                 let [single, pair] = [protocol.single_lattice[0], protocol.pair_lattice[0]];
                 counts[i].box_limited |= box_limited(extent, single as f64, pair as f64);

@@ -18,6 +18,17 @@ fn ok(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).to_string()
 }
 
+/// Run `cmd` in sh; it must succeed (mounting and filling the small disks of the full-disk
+/// tests).
+fn sh(cmd: &str) {
+    let out = Command::new("sh").arg("-c").arg(cmd).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{cmd}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Refused: non-zero, and stderr's last line names `needle`.
 fn refused(out: &Output, needle: &str) -> String {
     let err = String::from_utf8_lossy(&out.stderr).to_string();
@@ -466,14 +477,6 @@ fn a_full_disk_puts_the_jobs_in_flight_back_and_names_the_store() {
     std::fs::write(dir.join("full.toml"), text).unwrap();
     let mnt = dir.join("mnt");
     std::fs::create_dir_all(&mnt).unwrap();
-    let sh = |cmd: &str| {
-        let out = Command::new("sh").arg("-c").arg(cmd).output().unwrap();
-        assert!(
-            out.status.success(),
-            "{cmd}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    };
     sh(&format!(
         "mount -t tmpfs -o size=4m tmpfs {}",
         mnt.display()
@@ -521,14 +524,6 @@ fn plot_on_a_full_disk_leaves_no_empty_picture() {
     let dir = workdir("doors", "full-plot");
     let mnt = dir.join("mnt");
     std::fs::create_dir_all(&mnt).unwrap();
-    let sh = |cmd: &str| {
-        let out = Command::new("sh").arg("-c").arg(cmd).output().unwrap();
-        assert!(
-            out.status.success(),
-            "{cmd}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    };
     sh(&format!(
         "mount -t tmpfs -o size=1m tmpfs {}",
         mnt.display()
@@ -674,13 +669,7 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
 #[test]
 fn status_lists_the_box_limited_points() {
     let dir = workdir("doors", "box");
-    std::fs::write(
-        dir.join("bx.toml"),
-        "name = \"bx\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
-         [params]\nR0 = 24\n[protocol]\nsingle_lattice = [72, 96]\npair_lattice = [144, 96]\n\
-         relax_time = 5\nfree_time = 10\ncollide_time = 2\n",
-    )
-    .unwrap();
+    std::fs::write(dir.join("bx.toml"), common::BOX_SWEEP).unwrap();
     ok(&cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]));
     let table = ok(&cellsweep_in(&dir, &["table", "--db", "b.sqlite"]));
     assert!(

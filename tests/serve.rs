@@ -296,13 +296,7 @@ fn serve_follows_a_store_replaced_at_its_path() {
 #[test]
 fn serve_lists_the_box_limited_points() {
     let dir = workdir("serve", "box");
-    std::fs::write(
-        dir.join("bx.toml"),
-        "name = \"bx\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
-         [params]\nR0 = 24\n[protocol]\nsingle_lattice = [72, 96]\npair_lattice = [144, 96]\n\
-         relax_time = 5\nfree_time = 10\ncollide_time = 2\n",
-    )
-    .unwrap();
+    std::fs::write(dir.join("bx.toml"), common::BOX_SWEEP).unwrap();
     let out = common::cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]);
     assert!(
         out.status.success(),

@@ -93,6 +93,12 @@ pub const NAN_SWEEP: &str = "name = \"{name}\"\nseed = 1\nreplicates = 2\n[grid]
      [params]\ndt = 0.01\nt_sample = 0.01\nR0 = 20\nd = 2.23606797749979\n\
      [protocol]\nsingle_lattice = [100, 100]\nrelax_time = 5\nfree_time = 20\ncollide_time = 2\n";
 
+/// A one-point sweep (1 replicate) whose prepped cell fills its 72-wide box: box-limited
+/// (SPEC 4.5), as `table`, `status` and the live page flag it.
+pub const BOX_SWEEP: &str = "name = \"bx\"\nseed = 5\nreplicates = 1\n[grid]\nalpha = [0.1]\nbeta = [10]\nL = [48]\nsigma = [5]\n\
+     [params]\nR0 = 24\n[protocol]\nsingle_lattice = [72, 96]\npair_lattice = [144, 96]\n\
+     relax_time = 5\nfree_time = 10\ncollide_time = 2\n";
+
 /// Send `sig` (libc::SIGINT, ...) to a child process: no `kill` binary needed (a minimal system
 /// has none: procps is not essential).
 pub fn send_signal(child: &std::process::Child, sig: i32) {

@@ -6,24 +6,28 @@
 #   for f in data/convergence/conv-*.csv; do cellsweep import "$f" --db STORE_DIR/$(basename "$f" .csv).sqlite; done
 #
 # Usage: scripts/convergence-queue.sh STORE_DIR [SWEEP...] (SWEEP: a file name under
-# sweeps/convergence/ without .toml; default every file there). CELLSWEEP names the binary.
+# sweeps/convergence/ without .toml; default every file there). CELLSWEEP names the binary;
+# SWEEPS and DATA another folder of sweep files and of exports (the extensions of open
+# columns: SWEEPS=sweeps/extended DATA=data/extended).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:?usage: convergence-queue.sh STORE_DIR [SWEEP...]}
 shift
 exe=${CELLSWEEP:-target/release/cellsweep}
-mkdir -p "$dir" data/convergence
+sweeps=${SWEEPS:-sweeps/convergence}
+data=${DATA:-data/convergence}
+mkdir -p "$dir" "$data"
 queue=("$@")
-[ ${#queue[@]} -gt 0 ] || queue=($(cd sweeps/convergence && ls *.toml | sed 's/\.toml$//'))
+[ ${#queue[@]} -gt 0 ] || queue=($(cd "$sweeps" && ls *.toml | sed 's/\.toml$//'))
 export_one() { # name store
-  "$exe" export --db "$2" --sweep "$1" --out "data/convergence/$1.csv.tmp" >/dev/null 2>&1 &&
-    mv "data/convergence/$1.csv.tmp" "data/convergence/$1.csv" || rm -f "data/convergence/$1.csv.tmp"
+  "$exe" export --db "$2" --sweep "$1" --out "$data/$1.csv.tmp" >/dev/null 2>&1 &&
+    mv "$data/$1.csv.tmp" "$data/$1.csv" || rm -f "$data/$1.csv.tmp"
 }
 for s in "${queue[@]}"; do
-  name=$(sed -n 's/^name = "\(.*\)"/\1/p' "sweeps/convergence/$s.toml")
+  name=$(sed -n 's/^name = "\(.*\)"/\1/p' "$sweeps/$s.toml")
   db="$dir/$name.sqlite"
   (
-    nice -n 19 "$exe" run "sweeps/convergence/$s.toml" --db "$db" --workers 1 > "$dir/$name.log" 2>&1 &
+    nice -n 19 "$exe" run "$sweeps/$s.toml" --db "$db" --workers 1 > "$dir/$name.log" 2>&1 &
     pid=$!
     while kill -0 "$pid" 2>/dev/null; do
       for _ in $(seq 60); do kill -0 "$pid" 2>/dev/null || break; sleep 10; done

@@ -515,3 +515,78 @@ fn a_retuned_refine_rule_must_hold_the_values_earlier_rounds_added() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// An extension (SPEC section 6, `[refine] extend_to`): columns whose crossing lies above the
+/// grid (training everywhere it was sampled, or open at its last beta) take the grid's spacing
+/// above it until the crossing is bounded, then are refined as any other; nothing goes past
+/// extend_to, and adding an extension to a stored sweep is a different sweep (a new name).
+#[test]
+fn an_extension_finds_crossings_above_the_grid_and_is_a_sweep_of_its_own() {
+    let text = sweep_text("ext", "[10, 12, 14]", false)
+        + "[refine]\nwidth = 1.2\nstep = 0.5\nmax_new_per_column = 12\nper_round = 2\n\
+           extend_to = 30\n";
+    let sweep = Sweep::parse(&text, "ext.toml").unwrap();
+    let rule = sweep.refine.unwrap();
+    assert_eq!((rule.extend_to, rule.extend_step), (Some(30.0), Some(2.0)));
+    let (_store_dir, mut store) = store_at("extension");
+    let ledger = open(&mut store, &sweep);
+    drive(&mut store, &ledger, false, usize::MAX);
+
+    let points = ledger.points(&store).unwrap();
+    let ends = ledger.point_ends(&store).unwrap();
+    let counts: Vec<_> = ends
+        .iter()
+        .map(|e: &PointEnds| e.counts(u32::MAX))
+        .collect();
+    let fit = cellsweep_stats::fit_line(
+        &counts,
+        &Default::default(),
+        0,
+        1,
+        cellsweep_stats::Method::Model,
+    )
+    .unwrap();
+    for alpha in [0.1, 0.12] {
+        let added: Vec<f64> = points
+            .iter()
+            .filter(|p| p.alpha == alpha && !sweep.grid.beta.contains(&p.beta))
+            .map(|p| p.beta)
+            .collect();
+        assert!(added.len() <= 12, "{alpha}: {added:?}");
+        for b in &added {
+            assert!(
+                *b > 14.0 && *b <= 30.0 && (b / 0.5).round() * 0.5 == *b,
+                "{b}"
+            );
+        }
+        // The ladder reached past the true crossing, and the column now has one near it.
+        assert!(
+            added.iter().any(|&b| b > beta_star(alpha)),
+            "{alpha}: {added:?}"
+        );
+        let c = fit.columns.iter().find(|c| c.alpha == alpha).unwrap();
+        let star = c.beta_star.unwrap_or_else(|| panic!("{alpha}: {c:?}"));
+        assert!((star - beta_star(alpha)).abs() < 1.5, "{alpha}: {star}");
+    }
+
+    // The same name without the extension in a store that holds it: a different sweep.
+    let plain = Sweep::parse(
+        &(sweep_text("ext", "[10, 12, 14]", false)
+            + "[refine]\nwidth = 1.2\nstep = 0.5\nmax_new_per_column = 12\nper_round = 2\n"),
+        "plain.toml",
+    )
+    .unwrap();
+    let err = store.register(&plan(&plain, "test"), false).unwrap_err();
+    assert!(err.to_string().contains("extend_to"), "{err}");
+
+    // extend_to at or below the grid's top, or an extend_step off the step, is refused.
+    for (tail, key) in [
+        ("extend_to = 14\n", "refine.extend_to"),
+        ("extend_to = 30\nextend_step = 0.3\n", "refine.extend_step"),
+        ("extend_step = 2\n", "refine.extend_step"),
+    ] {
+        let t = sweep_text("bad", "[10, 12, 14]", false) + "[refine]\nstep = 0.5\n" + tail;
+        let e = Sweep::parse(&t, "bad.toml").unwrap_err().to_string();
+        assert!(e.contains(key), "{tail}: {e}");
+    }
+}

@@ -106,6 +106,12 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
             r.per_round,
             r.width
         );
+        if let (Some(to), Some(spacing)) = (r.extend_to, r.extend_step) {
+            println!(
+                "  extension: a column open at its top (no crossing below the grid's last beta) \
+                 takes values {spacing} apart above it, up to beta {to}"
+            );
+        }
     }
     let store = if db.exists() {
         Some(Store::open_read(db)?)

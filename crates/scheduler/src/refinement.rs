@@ -37,6 +37,8 @@ pub(crate) fn rule(f: &RefineFile, grid_betas: &[f64]) -> Result<RefineRule, (St
         step: f.step.map_or(0.5, |x| x.0),
         max_new_per_column: max_new,
         per_round: whole(f.per_round, "per_round", 2.min(max_new))?,
+        extend_to: None,
+        extend_step: None,
     };
     if !(rule.width.is_finite() && rule.width > 0.0) {
         return Err(err("width", format!("{} must be a number > 0", rule.width)));
@@ -83,5 +85,62 @@ pub(crate) fn rule(f: &RefineFile, grid_betas: &[f64]) -> Result<RefineRule, (St
             ),
         ));
     }
+    extension(f, &sorted, rule)
+}
+
+/// `extend_to` and `extend_step` (SPEC section 6: an open column may be extended beyond the
+/// grid, in a separately named sweep): above the grid's last beta, with a ladder (by default
+/// the grid's last spacing) whose every value lies on the refinement's step.
+fn extension(
+    f: &RefineFile,
+    sorted: &[f64],
+    mut rule: RefineRule,
+) -> Result<RefineRule, (String, String)> {
+    let err = |key: &str, problem: String| (format!("refine.{key}"), problem);
+    let Some(to) = f.extend_to.map(|x| x.0) else {
+        if f.extend_step.is_some() {
+            return Err(err("extend_step", "given without extend_to".into()));
+        }
+        return Ok(rule);
+    };
+    let (top, below) = (sorted[sorted.len() - 1], sorted[sorted.len() - 2]);
+    if !(to.is_finite() && to > top) {
+        return Err(err(
+            "extend_to",
+            format!("{to} must be a number above the grid's last beta ({top})"),
+        ));
+    }
+    let spacing = f.extend_step.map_or(top - below, |x| x.0);
+    if !(spacing.is_finite() && spacing > 0.0) {
+        return Err(err(
+            "extend_step",
+            format!("{spacing} must be a number > 0"),
+        ));
+    }
+    let rungs = ((to - top) / spacing).floor() as u64;
+    if rungs == 0 || rungs > MAX_AXIS_POINTS as u64 {
+        return Err(err(
+            "extend_to",
+            format!(
+                "{to}: {rungs} values {spacing} apart above the grid's {top} (at least 1, at \
+                 most {MAX_AXIS_POINTS})"
+            ),
+        ));
+    }
+    let on_step = |b: f64| ((b / rule.step) - (b / rule.step).round()).abs() <= 1e-6;
+    if let Some(b) = (1..=rungs)
+        .map(|j| top + j as f64 * spacing)
+        .find(|&b| !on_step(b))
+    {
+        return Err(err(
+            "extend_step",
+            format!(
+                "{spacing}: the extension's value {b} is not on the refinement's step {}",
+                rule.step
+            ),
+        ));
+    }
+    rule.extend_to = Some(to);
+    rule.extend_step = Some(spacing);
     Ok(rule)
 }

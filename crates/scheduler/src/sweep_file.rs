@@ -95,6 +95,8 @@ pub struct RefineFile {
     pub step: Option<Real>,
     pub max_new_per_column: Option<Whole>,
     pub per_round: Option<Whole>,
+    pub extend_to: Option<Real>,
+    pub extend_step: Option<Real>,
 }
 
 /// `[run]`: fault handling.

@@ -119,6 +119,13 @@ pub struct StageSteps {
 }
 
 impl Protocol {
+    /// The single-cell lattice in the solver's sites: `single_lattice` (given in l0) times the
+    /// resolution k. A prep's field has this size.
+    pub fn single_sites(&self) -> [usize; 2] {
+        let k = self.resolution.max(1) as usize;
+        [self.single_lattice[0] * k, self.single_lattice[1] * k]
+    }
+
     /// Validate the lattices and durations against the parameters; return the step counts.
     pub fn validate(&self, params: &Params) -> Result<StageSteps, ParamError> {
         if !(1..=8).contains(&self.resolution) {

@@ -54,6 +54,14 @@ pub struct RefineRule {
     pub max_new_per_column: u32,
     /// At most this many values added to one column in one round.
     pub per_round: u32,
+    /// Beyond the grid (SPEC section 6: an open column, in a separately named sweep): values
+    /// above the grid's last beta may be added up to this one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extend_to: Option<f64>,
+    /// The spacing of the values an extension adds above a column's last one (by default the
+    /// grid's last spacing, so that beta 10..50 step 4 goes on 54, 58, 62).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extend_step: Option<f64>,
 }
 
 /// What a column needs next.
@@ -70,8 +78,18 @@ pub enum ColumnNeed {
     /// only more replicates (or a finer step) can narrow it.
     Lattice { width: f64 },
     /// No crossing to refine (the model's reason): refinement adds values only inside a
-    /// crossing's interval.
+    /// crossing's interval, or beyond the grid in an extension.
     NoCrossing(String),
+}
+
+/// Whether a column without a crossing is open at its top, so that values above it may find
+/// one: its interval reaches its last beta, or training dominates everywhere it was sampled
+/// (walk-past grows with beta: its crossing lies above).
+fn open_above(why: &NoModelCrossing) -> bool {
+    matches!(
+        why,
+        NoModelCrossing::Open { side: "last", .. } | NoModelCrossing::TrainEverywhere
+    )
 }
 
 impl RefineRule {
@@ -86,7 +104,28 @@ impl RefineRule {
         if self.per_round == 0 || self.max_new_per_column == 0 {
             return Err("per_round and max_new_per_column must be at least 1".into());
         }
+        if let Some(e) = self.extend_step.filter(|e| !(e.is_finite() && *e > 0.0)) {
+            return Err(format!("extend_step = {e} must be a number > 0"));
+        }
         Ok(())
+    }
+
+    /// The values an extension adds to a column open at its top: the next `per_round` values
+    /// of the ladder above its highest beta (`extend_step` apart, at most `extend_to`, within
+    /// the budget). None where the rule has no extension, the column is not open at its top,
+    /// or the ladder or the budget is spent.
+    fn extension(&self, why: &NoModelCrossing, present: &[f64], added: u32) -> Option<Vec<f64>> {
+        let (to, spacing) = (self.extend_to?, self.extend_step?);
+        if !open_above(why) || added >= self.max_new_per_column {
+            return None;
+        }
+        let room = (self.max_new_per_column - added).min(self.per_round);
+        let top = present.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let next: Vec<f64> = (1..=room)
+            .map(|j| snap(top + f64::from(j) * spacing))
+            .take_while(|&b| b <= to + 1e-9 * spacing)
+            .collect();
+        (!next.is_empty()).then_some(next)
     }
 
     /// The next round of one column: its model (or why it has none), the beta values it holds
@@ -101,7 +140,12 @@ impl RefineRule {
     ) -> ColumnNeed {
         let m = match model {
             Ok(m) => m,
-            Err(why) => return ColumnNeed::NoCrossing(why.to_string()),
+            Err(why) => {
+                return match self.extension(why, present, added) {
+                    Some(next) => ColumnNeed::Add(next),
+                    None => ColumnNeed::NoCrossing(why.to_string()),
+                }
+            }
         };
         let width = m.ci[1] - m.ci[0];
         let near = |lo: f64, hi: f64| sampled.iter().any(|&b| b >= lo && b <= hi);
@@ -210,6 +254,8 @@ mod tests {
         step: 0.5,
         max_new_per_column: 6,
         per_round: 2,
+        extend_to: None,
+        extend_step: None,
     };
 
     #[test]
@@ -222,6 +268,58 @@ mod tests {
         let held = [10.0, 14.0, 17.0, 17.5, 18.0, 22.0, 26.0];
         let need = RULE.need(&model(17.3, 16.4, 18.4), &held, &held, 2);
         assert_eq!(need, ColumnNeed::Add(vec![16.5]));
+    }
+
+    #[test]
+    fn an_extension_climbs_the_ladder_above_a_column_open_at_its_top() {
+        let rule = RefineRule {
+            extend_to: Some(62.0),
+            extend_step: Some(4.0),
+            ..RULE
+        };
+        let grid = [42.0, 46.0, 50.0];
+        let open: Result<ColumnModel, NoModelCrossing> = Err(NoModelCrossing::Open {
+            side: "last",
+            beta: 50.0,
+        });
+        assert_eq!(
+            rule.need(&open, &grid, &grid, 0),
+            ColumnNeed::Add(vec![54.0, 58.0])
+        );
+        // Training everywhere: its crossing lies above too.
+        let train: Result<ColumnModel, NoModelCrossing> = Err(NoModelCrossing::TrainEverywhere);
+        let held = [42.0, 46.0, 50.0, 54.0, 58.0];
+        assert_eq!(
+            rule.need(&train, &held, &held, 2),
+            ColumnNeed::Add(vec![62.0])
+        );
+        // Not past extend_to, not past the budget, and never below the grid or without one.
+        let top = [42.0, 46.0, 50.0, 54.0, 58.0, 62.0];
+        assert!(matches!(
+            rule.need(&open, &top, &top, 3),
+            ColumnNeed::NoCrossing(_)
+        ));
+        assert!(matches!(
+            rule.need(&open, &grid, &grid, 6),
+            ColumnNeed::NoCrossing(_)
+        ));
+        let first: Result<ColumnModel, NoModelCrossing> = Err(NoModelCrossing::Open {
+            side: "first",
+            beta: 42.0,
+        });
+        assert!(matches!(
+            rule.need(&first, &grid, &grid, 0),
+            ColumnNeed::NoCrossing(_)
+        ));
+        assert!(matches!(
+            RULE.need(&open, &grid, &grid, 0),
+            ColumnNeed::NoCrossing(_)
+        ));
+        // A bounded crossing is refined as any other, inside its interval.
+        assert_eq!(
+            rule.need(&model(52.3, 51.2, 53.6), &held, &held, 2),
+            ColumnNeed::Add(vec![52.0, 52.5])
+        );
     }
 
     #[test]

@@ -341,7 +341,14 @@ pub fn spec_change(stored: &str, new: &str) -> SpecChange {
         let map = v.as_object_mut()?;
         let n = map.remove("replicates")?.as_u64()?;
         map.remove("adaptive");
-        map.remove("refine");
+        // An extension beyond the grid is a sweep of its own (SPEC section 6: never in the
+        // paper's sweep): extend_to stays part of the identity.
+        let extension = map
+            .remove("refine")
+            .and_then(|r| r.get("extend_to").cloned());
+        if let Some(to) = extension {
+            map.insert("extend_to".into(), to);
+        }
         Some((u32::try_from(n).ok()?, v))
     };
     match (split(stored), split(new)) {

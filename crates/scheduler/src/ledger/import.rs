@@ -1,5 +1,6 @@
 //! Exported rows (`cellsweep import`) checked against the jobs they claim, and committed.
 
+use cellsweep_solver::resolution::to_lattice;
 use cellsweep_solver::{Config, Params};
 use cellsweep_store::export::{changed_params, same_to_round_off, ExportRow};
 use cellsweep_store::{JobIdentity, JobState, ResultRecord, Store};
@@ -106,11 +107,13 @@ fn identity_problem(
 /// precision, classifier), if it does not.
 fn fit_problem(job: &JobIdentity, row: &ExportRow) -> Result<Option<String>, RunError> {
     let config: Config = serde_json::from_str(&job.config)?;
-    let steps = match config.protocol.validate(&config.params) {
+    // Steps as the solver took them: on a finer lattice (resolution k) dt is dt / k^2.
+    let (params, protocol) = to_lattice(&config.params, &config.protocol);
+    let steps = match protocol.validate(&params) {
         Ok(steps) => steps,
         Err(e) => return Ok(Some(format!("the job's protocol: {e}"))),
     };
-    let end = steps.collide as f64 * config.params.dt;
+    let end = steps.collide as f64 * params.dt;
     for (field, t) in [
         ("contact_time", row.contact_time),
         ("decision_time", row.decision_time),

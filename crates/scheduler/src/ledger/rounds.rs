@@ -201,7 +201,8 @@ impl Ledger {
                         others: c.round.others.clone(),
                     };
                     // (The values lie inside a crossing's interval, itself inside the
-                    // column's sampled betas, on the step lattice: always admitted.)
+                    // column's sampled betas, or on an extension's ladder up to extend_to,
+                    // on the step lattice: always admitted.)
                     if self.sweep.refused_addition(&a).is_none() {
                         out.push(a);
                     }

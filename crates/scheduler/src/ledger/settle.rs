@@ -169,10 +169,12 @@ impl Ledger {
             ));
         }
         let config: Config = serde_json::from_str(&prep.config)?;
-        if payload.lattice != config.protocol.single_lattice {
+        // In sites: a finer lattice (resolution k) has k times the paper's sides.
+        let sites = config.protocol.single_sites();
+        if payload.lattice != sites {
             return refuse(format!(
                 "lattice {:?} is not the prep's {:?}",
-                payload.lattice, config.protocol.single_lattice
+                payload.lattice, sites
             ));
         }
         let settlement = if prep.state == JobState::Done {

@@ -101,8 +101,15 @@ impl Sweep {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
                 (a.min(x), b.max(x))
             });
-        if !(beta > lo && beta < hi) {
-            return Some(format!("beta outside the grid's [{lo}, {hi}]"));
+        // An extension (SPEC section 6) reaches above the grid, up to extend_to.
+        let top = rule.extend_to.map_or(hi, |to| to + 1e-9 * rule.step);
+        if !(beta > lo && (beta < hi || (beta > hi && beta <= top))) {
+            return Some(match rule.extend_to {
+                Some(to) => {
+                    format!("beta outside the grid's [{lo}, {hi}] and its extension to {to}")
+                }
+                None => format!("beta outside the grid's [{lo}, {hi}]"),
+            });
         }
         let j = (beta / rule.step).round();
         if (beta - j * rule.step).abs() > 1e-6 * rule.step || snap(j * rule.step) != beta {

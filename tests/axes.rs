@@ -283,3 +283,101 @@ fn reset_puts_back_exactly_the_points_named_on_any_axis() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Diagrams on any two axes (issue 50): `table` and `plot` with `--x R0 --y beta --by xt,sigma`
+/// over the committed collapse sweeps and the paper's R0 = 40 diagram (several `--data` read as
+/// one; the paper's sweep fixes R0 and gains it as an axis) set cells of three sizes side by
+/// side at each alpha~/L~; a cell that two points would share, an unknown axis, or one axis
+/// twice is one line and a non-zero exit, with nothing written.
+#[test]
+fn diagrams_on_any_two_axes_from_the_collapse_exports() {
+    let dir = workdir("axes", "plane");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let data = |f: &str| root.join(f).display().to_string();
+    let (r32, r48, r40) = (
+        data("data/collapse/R0-32.csv"),
+        data("data/collapse/R0-48.csv"),
+        data("data/paper/refined-L90-sigma5.csv"),
+    );
+    let plane = ["--x", "R0", "--y", "beta", "--by", "xt,sigma"];
+    let mut args = vec!["table", "--data", &r32, "--data", &r48, "--data", &r40];
+    args.extend(plane);
+    let out = cellsweep_in(&dir, &args);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // alpha~/L~ = 2 pi d alpha R0^2 / L: R0 32 (alpha 0.125, L 72), 40 (alpha 0.10, L 90) and
+    // 48 (alpha 0.0833, L 108) all sit at 49.95.
+    let first = text.split("\n\n").next().unwrap();
+    assert!(first.starts_with("xt = 49.95, sigma = 5"), "{text}");
+    assert!(first.contains("beta \\ R0 |    32    40    48"), "{first}");
+    // Each cell shows its point's label as the single sweep's own table gives it: R0 = 32 at
+    // alpha 0.125 and 40 at alpha 0.10, beta 10 and 26.
+    for (file, alpha, col) in [(&r32, 0.125, 0), (&r40, 0.1, 1)] {
+        let one = cellsweep_in(&dir, &["table", "--data", file, "--format", "json"]);
+        let points: serde_json::Value = serde_json::from_slice(&one.stdout).unwrap();
+        for beta in [10.0, 26.0] {
+            let p = points
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|p| p["alpha"] == alpha && p["beta"] == beta)
+                .unwrap();
+            let label: cellsweep_stats::Label = serde_json::from_value(p["label"].clone()).unwrap();
+            let symbol = label.symbol();
+            let row = first
+                .lines()
+                .find(|l| l.trim_start().starts_with(&format!("{beta} |")))
+                .unwrap();
+            let cells: Vec<&str> = row.split('|').nth(1).unwrap().split_whitespace().collect();
+            assert_eq!(cells[col], symbol, "{file} beta {beta}: {row}");
+        }
+    }
+
+    // plot writes one figure per alpha~/L~, the axis named R0.
+    let pics = dir.join("pics");
+    let mut args = vec![
+        "plot", "--data", &r32, "--data", &r48, "--data", &r40, "--out",
+    ];
+    let pics_arg = pics.display().to_string();
+    args.push(&pics_arg);
+    args.extend(plane);
+    let out = cellsweep_in(&dir, &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(pics.join("plane-beta-R0-xt_49.95-sigma_5.svg")).unwrap();
+    assert!(
+        svg.contains(">R0<") && svg.contains("xt = 49.95"),
+        "axis or title missing"
+    );
+
+    // Refusals: one line each, nothing written.
+    let none = dir.join("none").display().to_string();
+    for (extra, says) in [
+        (vec!["--x", "R0", "--by", "sigma"], "add it to --by"),
+        (vec!["--x", "E0"], "E0 is not an axis of these points"),
+        (vec!["--x", "beta"], "--x and --y are both beta"),
+    ] {
+        for cmd in ["table", "plot"] {
+            let mut args = vec![cmd, "--data", &r32];
+            if cmd == "plot" {
+                args.extend(["--out", &none]);
+            }
+            args.extend(extra.iter().copied());
+            let out = cellsweep_in(&dir, &args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && err.contains(says),
+                "{args:?}: {err}"
+            );
+            assert_eq!(err.trim().lines().count(), 1, "{err}");
+        }
+    }
+    assert!(!dir.join("none").exists());
+}

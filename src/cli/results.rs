@@ -36,19 +36,26 @@ pub struct CountsSource {
     #[arg(long, value_name = "FILE.csv", conflicts_with = "data")]
     pub counts: Option<std::path::PathBuf>,
     /// Read the results of a `cellsweep export` file instead of a store (e.g.
-    /// data/paper/adaptive-L90-sigma5.csv): no store, no recomputation.
+    /// data/paper/adaptive-L90-sigma5.csv): no store, no recomputation. Give it again to read
+    /// several sweeps as one (`--data data/collapse/R0-32.csv --data data/collapse/R0-48.csv`).
     #[arg(long, value_name = "EXPORT.csv", conflicts_with_all = ["db", "sweep"])]
-    pub data: Option<std::path::PathBuf>,
+    pub data: Vec<std::path::PathBuf>,
 }
 
 impl CountsSource {
     /// The results these flags name: an export file, a counts file, or a store.
     pub fn load(&self) -> Result<cellsweep_report::Results, cellsweep_report::load::LoadError> {
         use cellsweep_report::load;
-        match (&self.data, &self.counts) {
-            (Some(path), _) => load::from_export(path),
-            (None, Some(path)) => load::from_counts_csv(path),
-            (None, None) => load::from_store(&self.db, self.sweep.as_deref()),
+        match (self.data.as_slice(), &self.counts) {
+            ([path], _) => load::from_export(path),
+            ([], Some(path)) => load::from_counts_csv(path),
+            ([], None) => load::from_store(&self.db, self.sweep.as_deref()),
+            (paths, _) => Ok(cellsweep_report::Results::merged(
+                paths
+                    .iter()
+                    .map(|p| load::from_export(p))
+                    .collect::<Result<_, _>>()?,
+            )),
         }
     }
 }
@@ -67,12 +74,43 @@ pub enum FitFormat {
     Json,
 }
 
+/// The plane of the diagrams: any two axes (`--x R0 --y beta`).
+#[derive(Debug, Args)]
+pub struct PlaneArgs {
+    /// The axis across the diagrams: alpha (the paper's), beta, L, sigma, any other axis of
+    /// the sweep (R0, E0, ...), or xt, alpha~/L~ at each point's own R0 and d.
+    #[arg(long, default_value = "alpha", value_name = "AXIS")]
+    pub x: String,
+    /// The axis up the diagrams (beta, the paper's, or any as for --x).
+    #[arg(long, default_value = "beta", value_name = "AXIS")]
+    pub y: String,
+    /// The axes that tell one diagram from another, comma-separated (default: every axis of
+    /// the points but --x and --y; `--x R0 --by xt,sigma` sets cell sizes side by side at one
+    /// alpha~/L~).
+    #[arg(long, value_name = "AXIS,...", value_delimiter = ',')]
+    pub by: Vec<String>,
+}
+
+impl PlaneArgs {
+    pub fn plane(&self) -> cellsweep_stats::Plane {
+        cellsweep_stats::Plane {
+            x: self.x.clone(),
+            y: self.y.clone(),
+            // `--by ''`: no axis, every point in one diagram.
+            by: (!self.by.is_empty())
+                .then(|| self.by.iter().filter(|a| !a.is_empty()).cloned().collect()),
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct TableArgs {
     #[command(flatten)]
     pub source: CountsSource,
     #[command(flatten)]
     pub select: Selection,
+    #[command(flatten)]
+    pub plane: PlaneArgs,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
@@ -264,6 +302,9 @@ pub struct PlotArgs {
     pub source: CountsSource,
     #[command(flatten)]
     pub select: Selection,
+    /// Diagrams on two other axes than (alpha, beta): only those are drawn.
+    #[command(flatten)]
+    pub plane: PlaneArgs,
     /// Folder for the pictures (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: std::path::PathBuf,

@@ -7,7 +7,7 @@ use serde_json::json;
 use crate::cli::{Format, TableArgs};
 
 use cellsweep_report::text::{
-    fraction_cell, fractions, grids_text, share_ends, BOX_LEGEND, LEGEND,
+    fraction_cell, fractions, grids_text, plane_grids_text, share_ends, BOX_LEGEND, LEGEND,
 };
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
@@ -18,8 +18,15 @@ pub fn run(args: TableArgs) -> anyhow::Result<()> {
     }
     // An adaptive sweep's standing of each point.
     let standings = loaded.standings.as_deref();
+    let plane = args.plane.plane();
+    // A plane is checked whatever the format, so that a bad axis is one line, never ignored.
+    let grids = if plane.is_paper() {
+        grids_text(&counts)
+    } else {
+        plane_grids_text(&counts, &plane, &loaded.scales)?
+    };
     match args.format {
-        Format::Text => print_text(&counts, standings),
+        Format::Text => print_text(&grids, &counts, standings),
         Format::Csv => print_csv(&counts, standings),
         Format::Json => print_json(&counts, standings)?,
     }
@@ -32,9 +39,9 @@ fn standing_of(standings: Option<&[Assessment]>, i: usize) -> Option<&Assessment
 }
 
 /// Each diagram's grid, then every point's counts, fractions and label.
-fn print_text(counts: &[Counts], standings: Option<&[Assessment]>) {
+fn print_text(grids: &str, counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
-    print!("{}", grids_text(counts));
+    print!("{grids}");
     println!("{LEGEND}");
     let boxed = counts.iter().filter(|c| c.box_limited).count();
     if boxed > 0 {

@@ -9,8 +9,9 @@ use crate::panel::{axis, clip, span, text_width, Panel};
 /// One grid point of a diagram.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Point {
-    pub alpha: f64,
-    pub beta: f64,
+    /// Its place across (alpha in the paper's diagrams) and up (beta).
+    pub x: f64,
+    pub y: f64,
     pub mark: Option<Mark>,
     /// Frequencies of train, walk-past, reversal (NaN where no collision ran).
     pub freq: [f64; 3],
@@ -35,15 +36,30 @@ pub struct BetaLine {
     pub intercept: f64,
 }
 
-/// One (L, sigma) diagram.
+/// One diagram: the paper's (alpha across, beta up, one per (L, sigma)) or one on any two axes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagram {
     pub title: String,
+    /// The names of the axes across and up, as the frame labels them ("α", "β", "R0").
+    pub axes: [String; 2],
     pub points: Vec<Point>,
     pub lines: Vec<BetaLine>,
 }
 
-fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str) {
+impl Diagram {
+    /// The names the paper's diagrams label their axes with.
+    pub fn paper_axes() -> [String; 2] {
+        ["α".into(), "β".into()]
+    }
+}
+
+fn frame(
+    fig: &mut Figure,
+    p: &Panel,
+    (alphas, betas): (&[f64], &[f64]),
+    [x_name, y_name]: &[String; 2],
+    title: &str,
+) {
     fig.push(Shape::Rect {
         x: p.x,
         y: p.y,
@@ -79,8 +95,20 @@ fn frame(fig: &mut Figure, p: &Panel, alphas: &[f64], betas: &[f64], title: &str
             last = y;
         }
     }
-    fig.text(p.x + p.w / 2.0, p.y + p.h + 40.0, 17.0, Anchor::Middle, "α");
-    fig.text(p.x - 36.0, p.y + p.h / 2.0 + 6.0, 17.0, Anchor::End, "β");
+    fig.text(
+        p.x + p.w / 2.0,
+        p.y + p.h + 40.0,
+        17.0,
+        Anchor::Middle,
+        x_name.clone(),
+    );
+    fig.text(
+        p.x - 36.0,
+        p.y + p.h / 2.0 + 6.0,
+        17.0,
+        Anchor::End,
+        y_name.clone(),
+    );
 }
 
 fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
@@ -102,15 +130,15 @@ fn lines(fig: &mut Figure, p: &Panel, d: &Diagram) {
 /// The grid's beta values: those held by more than half of the diagram's columns (a value a
 /// refinement added lies in one column or two). All of them where that leaves fewer than two.
 fn grid_betas(points: &[Point]) -> Vec<f64> {
-    let alphas = axis(points.iter().map(|p| p.alpha));
-    let all = axis(points.iter().map(|p| p.beta));
+    let alphas = axis(points.iter().map(|p| p.x));
+    let all = axis(points.iter().map(|p| p.y));
     let grid: Vec<f64> = all
         .iter()
         .copied()
         .filter(|&b| {
             let columns = alphas
                 .iter()
-                .filter(|&&a| points.iter().any(|p| p.alpha == a && p.beta == b))
+                .filter(|&&a| points.iter().any(|p| p.x == a && p.y == b))
                 .count();
             2 * columns > alphas.len()
         })
@@ -129,24 +157,21 @@ fn beta_cells(points: &[Point], (lo, hi): (f64, f64)) -> Vec<(f64, f64)> {
     points
         .iter()
         .map(|pt| {
-            let column = points
-                .iter()
-                .filter(|q| q.alpha == pt.alpha)
-                .map(|q| q.beta);
+            let column = points.iter().filter(|q| q.x == pt.x).map(|q| q.y);
             let below = column
                 .clone()
-                .filter(|&b| b < pt.beta)
+                .filter(|&b| b < pt.y)
                 .fold(f64::NAN, f64::max);
-            let above = column.filter(|&b| b > pt.beta).fold(f64::NAN, f64::min);
+            let above = column.filter(|&b| b > pt.y).fold(f64::NAN, f64::min);
             let down = if below.is_nan() {
                 lo
             } else {
-                0.5 * (below + pt.beta)
+                0.5 * (below + pt.y)
             };
             let up = if above.is_nan() {
                 hi
             } else {
-                0.5 * (above + pt.beta)
+                0.5 * (above + pt.y)
             };
             (down, up)
         })
@@ -165,7 +190,7 @@ fn point_shapes(
     added: bool,
 ) -> Shape {
     let mut shapes = Figure::new(0, 0);
-    let (x, y) = (p.px(pt.alpha), p.py(pt.beta));
+    let (x, y) = (p.px(pt.x), p.py(pt.y));
     // (py runs down the page: the cell's top is at its higher beta.)
     let (top, ch) = (p.py(b1), p.py(b0) - p.py(b1));
     if k == 0 {
@@ -321,7 +346,7 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
             } else {
                 ""
             },
-            if grid_betas(&d.points).len() < axis(d.points.iter().map(|p| p.beta)).len() {
+            if grid_betas(&d.points).len() < axis(d.points.iter().map(|p| p.y)).len() {
                 "; small marks: beta values a refinement added (ticks at the grid's)"
             } else {
                 ""
@@ -332,8 +357,8 @@ fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
 
 /// The four-panel figure of one diagram.
 pub fn diagram_figure(d: &Diagram) -> Figure {
-    let alphas = axis(d.points.iter().map(|p| p.alpha));
-    let betas = axis(d.points.iter().map(|p| p.beta));
+    let alphas = axis(d.points.iter().map(|p| p.x));
+    let betas = axis(d.points.iter().map(|p| p.y));
     let grid = grid_betas(&d.points);
     let (pw, ph) = (240.0, 300.0);
     let mut fig = Figure::new(4 * 310 + 110, 540);
@@ -360,11 +385,11 @@ pub fn diagram_figure(d: &Diagram) -> Figure {
             by,
         };
         for (pt, &cell) in d.points.iter().zip(&cells) {
-            let added = !grid.contains(&pt.beta);
+            let added = !grid.contains(&pt.y);
             fig.push(point_shapes(&p, pt, k, cw, cell, added));
         }
         lines(&mut fig, &p, d);
-        frame(&mut fig, &p, &alphas, &grid, title);
+        frame(&mut fig, &p, (&alphas, &grid), &d.axes, title);
     }
     colour_bar(&mut fig, 4.0 * 310.0 + 20.0, 76.0, ph);
     legend(&mut fig, d, 462.0);

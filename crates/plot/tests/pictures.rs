@@ -9,8 +9,8 @@ fn diagram() -> Diagram {
     let mut points = Vec::new();
     for (k, mark) in Mark::ALL.into_iter().enumerate() {
         points.push(Point {
-            alpha: 0.1 + 0.02 * (k % 4) as f64,
-            beta: 10.0 + 4.0 * (k / 4) as f64,
+            x: 0.1 + 0.02 * (k % 4) as f64,
+            y: 10.0 + 4.0 * (k / 4) as f64,
             mark: Some(mark),
             freq: [0.2, 0.7, 0.1],
             n: 96,
@@ -20,6 +20,7 @@ fn diagram() -> Diagram {
         });
     }
     Diagram {
+        axes: Diagram::paper_axes(),
         title: "test".into(),
         points,
         lines: vec![BetaLine {
@@ -141,8 +142,8 @@ fn snapshots_render_and_animate() {
 #[test]
 fn the_legend_names_grey_cells_for_what_they_are() {
     let grey = |mark: Option<Mark>| Point {
-        alpha: 0.1,
-        beta: 10.0,
+        x: 0.1,
+        y: 10.0,
         mark,
         freq: [f64::NAN; 3],
         n: 0,
@@ -152,6 +153,7 @@ fn the_legend_names_grey_cells_for_what_they_are() {
     };
     let with = |points: Vec<Point>| {
         diagram_figure(&Diagram {
+            axes: Diagram::paper_axes(),
             title: "t".into(),
             points,
             lines: vec![],
@@ -174,9 +176,9 @@ fn the_legend_names_grey_cells_for_what_they_are() {
 #[test]
 fn refined_columns_keep_the_beta_axis_to_the_grid() {
     let mut points = Vec::new();
-    let mark = |alpha: f64, beta: f64| Point {
-        alpha,
-        beta,
+    let mark = |x: f64, y: f64| Point {
+        x,
+        y,
         mark: Some(Mark::Train),
         freq: [1.0, 0.0, 0.0],
         n: 16,
@@ -193,6 +195,7 @@ fn refined_columns_keep_the_beta_axis_to_the_grid() {
         points.push(mark(0.12, beta));
     }
     let svg = diagram_figure(&Diagram {
+        axes: Diagram::paper_axes(),
         title: "t".into(),
         points,
         lines: vec![],

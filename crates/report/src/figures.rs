@@ -6,7 +6,9 @@ use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::speed::{speed_figure, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
-use cellsweep_stats::{wilson, Assessment, Counts, End, Fit, Label, Scales, Standing};
+use cellsweep_stats::{
+    wilson, Assessment, Counts, End, Fit, Label, Plane, PlaneError, Scales, Standing,
+};
 
 use crate::collection::DiagramKey;
 use crate::Results;
@@ -75,27 +77,7 @@ pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagra
         .iter()
         .enumerate()
         .filter(|(_, c)| key.holds(c))
-        .map(|(i, c)| {
-            let n = c.collisions() as f64;
-            let f = |k: u64| {
-                if c.collided() && n > 0.0 {
-                    k as f64 / n
-                } else {
-                    f64::NAN
-                }
-            };
-            let a = assessment(results, i);
-            Point {
-                alpha: c.alpha,
-                beta: c.beta,
-                mark: c.label().map(mark),
-                freq: [f(c.n_train()), f(c.n_walk()), f(c.tally[End::Reversal])],
-                n: c.total(),
-                open: a.is_some_and(|a| a.standing == Standing::Open),
-                boxed: c.box_limited,
-                detail: detail(c, a),
-            }
-        })
+        .map(|(i, c)| point(results, i, c.alpha, c.beta))
         .collect();
     let mut lines = vec![beta_line(
         &scales,
@@ -115,6 +97,7 @@ pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagra
     }
     let um = l as f64 * cellsweep_plot::frames::SITE_UM;
     Diagram {
+        axes: Diagram::paper_axes(),
         title: match key.others.is_empty() {
             true => format!("{}: L = {l} ({um} µm), σ = {sigma}", results.name),
             false => format!(
@@ -125,6 +108,77 @@ pub fn diagram(results: &Results, key: &DiagramKey, fit: Option<&Fit>) -> Diagra
         points,
         lines,
     }
+}
+
+/// Point `i` of `results` drawn at (x, y): its mark, frequencies, replicates, standing and
+/// tooltip.
+fn point(results: &Results, i: usize, x: f64, y: f64) -> Point {
+    let c = &results.counts[i];
+    let n = c.collisions() as f64;
+    let f = |k: u64| {
+        if c.collided() && n > 0.0 {
+            k as f64 / n
+        } else {
+            f64::NAN
+        }
+    };
+    let a = assessment(results, i);
+    Point {
+        x,
+        y,
+        mark: c.label().map(mark),
+        freq: [f(c.n_train()), f(c.n_walk()), f(c.tally[End::Reversal])],
+        n: c.total(),
+        open: a.is_some_and(|a| a.standing == Standing::Open),
+        boxed: c.box_limited,
+        detail: detail(c, a),
+    }
+}
+
+/// The name an axis is labelled with in a figure.
+fn axis_label(name: &str) -> String {
+    match name {
+        "alpha" => "α".into(),
+        "beta" => "β".into(),
+        "sigma" => "σ".into(),
+        cellsweep_stats::plane::XT => "α̃/L̃".into(),
+        other => other.into(),
+    }
+}
+
+/// Every diagram of `results` in `plane` (`plot --x R0 --y beta`), each with the stem of its
+/// picture files (`plane-beta-R0-xt_49.95-sigma_5`). No beta_crit line: it lives in the
+/// (alpha, beta) plane.
+pub fn plane_diagrams(
+    results: &Results,
+    plane: &Plane,
+) -> Result<Vec<(String, Diagram)>, PlaneError> {
+    let diagrams = plane.diagrams(&results.counts, &results.scales)?;
+    Ok(diagrams
+        .into_iter()
+        .map(|d| {
+            let at = |c: &Counts, a: &str| Plane::value(c, a, &results.scales).unwrap_or(f64::NAN);
+            let points = d
+                .points
+                .iter()
+                .map(|&i| {
+                    let c = &results.counts[i];
+                    point(results, i, at(c, &plane.x), at(c, &plane.y))
+                })
+                .collect();
+            let mut stem = format!("plane-{}-{}", plane.y, plane.x);
+            for (n, v) in &d.fixed {
+                stem += &format!("-{n}_{}", cellsweep_stats::plane::shown(n, *v));
+            }
+            let diagram = Diagram {
+                title: format!("{}: {}", results.name, d.title()),
+                axes: [axis_label(&plane.x), axis_label(&plane.y)],
+                points,
+                lines: Vec::new(),
+            };
+            (stem, diagram)
+        })
+        .collect())
 }
 
 /// The four-panel figure of diagram `key`.

@@ -59,6 +59,54 @@ impl Results {
             .collect()
     }
 
+    /// Several sweeps' results read as one (`table --data A --data B`, a plane across files):
+    /// their points side by side, named "A + B". A sweep that fixes R0 or d where another
+    /// varies it gains that axis at its own value, so that `--x R0` reads the paper's R0 = 40
+    /// beside a sweep over R0. Standings and prep speeds are kept where every set has them;
+    /// the first set's scales and provenance stand for the whole.
+    pub fn merged(sets: Vec<Results>) -> Results {
+        let axes: Vec<&str> = ["R0", "d"]
+            .into_iter()
+            .filter(|a| {
+                sets.iter()
+                    .any(|r| r.counts.iter().any(|c| c.others.get(a).is_some()))
+            })
+            .collect();
+        let name = sets
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" + ");
+        let all_standings = sets.iter().all(|r| r.standings.is_some());
+        let all_speeds = sets.iter().all(|r| r.prep_speeds.is_some());
+        let mut out = Results {
+            name,
+            counts: Vec::new(),
+            scales: sets.first().map_or_else(Scales::default, |r| r.scales),
+            standings: all_standings.then(Vec::new),
+            prep_speeds: all_speeds.then(Vec::new),
+            provenance: sets.first().and_then(|r| r.provenance.clone()),
+        };
+        for r in sets {
+            for mut c in r.counts {
+                for a in &axes {
+                    if c.others.get(a).is_none() {
+                        let v = if *a == "R0" { r.scales.R0 } else { r.scales.d };
+                        c.others.0.push((a.to_string(), v));
+                    }
+                }
+                out.counts.push(c);
+            }
+            if let (Some(all), Some(v)) = (out.standings.as_mut(), r.standings) {
+                all.extend(v);
+            }
+            if let (Some(all), Some(v)) = (out.prep_speeds.as_mut(), r.prep_speeds) {
+                all.extend(v);
+            }
+        }
+        out
+    }
+
     /// These results with only the points `keep` holds (their standings and prep speeds
     /// follow them).
     pub fn only(self, keep: impl Fn(&Counts) -> bool) -> Results {

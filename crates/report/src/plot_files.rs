@@ -20,6 +20,8 @@ pub enum WriteError {
     },
     #[error(transparent)]
     Render(#[from] RenderError),
+    #[error(transparent)]
+    Plane(#[from] cellsweep_stats::PlaneError),
 }
 
 impl WriteError {
@@ -43,6 +45,27 @@ fn write(
     write_whole(&png, &fig.to_png(2.0)?).map_err(|e| WriteError::io(&png, e))?;
     written.extend([svg, png]);
     Ok(())
+}
+
+/// Write each diagram of `results` in `plane` into `dir` (`plot --x R0 --y beta`); returns
+/// the files written. Nothing is written where the plane cannot be drawn.
+pub fn write_plane_plots(
+    results: &Results,
+    plane: &cellsweep_stats::Plane,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, WriteError> {
+    let diagrams = figures::plane_diagrams(results, plane)?;
+    std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
+    let mut written = Vec::new();
+    for (stem, d) in diagrams {
+        write(
+            &cellsweep_plot::phase::diagram_figure(&d),
+            dir,
+            &stem,
+            &mut written,
+        )?;
+    }
+    Ok(written)
 }
 
 /// Write every picture of `results` into `dir`; returns the files written.

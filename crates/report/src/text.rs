@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellsweep_stats::{wilson, Counts, End, Label};
+use cellsweep_stats::{wilson, Counts, End, Label, Plane, PlaneError, Scales};
 use cellsweep_store::PointCounts;
 
 /// Sorted distinct values.
@@ -43,43 +43,77 @@ pub fn grids_text(counts: &[Counts]) -> String {
         if !key.others.is_empty() {
             let _ = write!(title, ", {}", key.others);
         }
-        let _ = writeln!(s, "{}", grid_of(&pts, &title));
+        let cells: Vec<(f64, f64, &Counts)> = pts.iter().map(|c| (c.alpha, c.beta, *c)).collect();
+        let _ = writeln!(s, "{}", grid_of(&cells, ["alpha", "beta"], &title));
     }
     s
 }
 
-/// The grid of one diagram's points: alpha across, beta down (largest beta on top, as in the
-/// paper).
-fn grid_of(pts: &[&Counts], title: &str) -> String {
-    let alphas = axis(pts.iter().map(|c| c.alpha));
-    let betas = axis(pts.iter().map(|c| c.beta));
-    let n = pts.iter().map(|c| c.total()).max().unwrap_or(0);
+/// Every diagram's grid of labels in `plane` (`table --x R0 --y beta`): one per value of its
+/// `by` axes, named in the grid's title.
+pub fn plane_grids_text(
+    counts: &[Counts],
+    plane: &Plane,
+    scales: &Scales,
+) -> Result<String, PlaneError> {
+    let mut s = String::new();
+    for d in plane.diagrams(counts, scales)? {
+        let cells: Vec<(f64, f64, &Counts)> = d
+            .points
+            .iter()
+            .map(|&i| {
+                let c = &counts[i];
+                let at = |a: &str| Plane::value(c, a, scales).unwrap_or(f64::NAN);
+                (at(&plane.x), at(&plane.y), c)
+            })
+            .collect();
+        let _ = writeln!(s, "{}", grid_of(&cells, [&plane.x, &plane.y], &d.title()));
+    }
+    Ok(s)
+}
+
+/// The grid of one diagram's points, each at its (x, y): x across, y down (largest on top,
+/// as in the paper).
+fn grid_of(cells: &[(f64, f64, &Counts)], [x_name, y_name]: [&str; 2], title: &str) -> String {
+    let xs = axis(cells.iter().map(|c| c.0));
+    let ys = axis(cells.iter().map(|c| c.1));
+    let n = cells.iter().map(|c| c.2.total()).max().unwrap_or(0);
+    // Columns as wide as their widest value (xt has two decimals, R0 two digits).
+    let shown = |v: f64| cellsweep_stats::plane::shown(x_name, v);
+    let w = xs.iter().map(|&v| shown(v).len()).max().unwrap_or(0).max(5);
+    let corner = format!("{y_name} \\ {x_name}");
+    let left = corner.len().max(10);
     let mut s = String::new();
     let _ = writeln!(
         s,
         "{title} (up to {} per point)",
         counted(n as usize, "replicate")
     );
-    let _ = write!(s, "{:>10} |", "beta \\ alpha");
-    for a in &alphas {
-        let _ = write!(s, " {a:>5}");
+    let _ = write!(s, "{corner:>left$} |");
+    for &a in &xs {
+        let _ = write!(s, " {:>w$}", shown(a));
     }
     let _ = writeln!(s);
-    let _ = writeln!(s, "{}", "-".repeat(13 + 6 * alphas.len()));
-    // Each cell by its (alpha, beta), bit for bit: a search of every point per cell was
-    // quadratic (6 s for the table of a 96,000-point sweep).
+    let _ = writeln!(s, "{}", "-".repeat(left + 1 + (w + 1) * xs.len()));
+    // Each cell by its (x, y), bit for bit: a search of every point per cell was quadratic (6 s
+    // for the table of a 96,000-point sweep).
     let mut at: std::collections::HashMap<(u64, u64), &Counts> = std::collections::HashMap::new();
-    for c in pts {
-        at.entry((c.alpha.to_bits(), c.beta.to_bits())).or_insert(c);
+    for (x, y, c) in cells {
+        at.entry((x.to_bits(), y.to_bits())).or_insert(c);
     }
-    for b in betas.iter().rev() {
-        let _ = write!(s, "{b:>12} |");
-        for a in &alphas {
+    for b in ys.iter().rev() {
+        let _ = write!(
+            s,
+            "{:>w2$} |",
+            cellsweep_stats::plane::shown(y_name, *b),
+            w2 = left
+        );
+        for a in &xs {
             let sym = at
                 .get(&(a.to_bits(), b.to_bits()))
                 .and_then(|c| c.label())
                 .map_or("", Label::symbol);
-            let _ = write!(s, " {sym:>5}");
+            let _ = write!(s, " {sym:>w$}");
         }
         let _ = writeln!(s);
     }
@@ -126,6 +160,15 @@ pub fn point_counts_text(points: &[PointCounts], name: &str, version: &str) -> S
     s
 }
 
+/// `n` and its noun, singular or plural as English has it: "1 job", "12 jobs", "0 preps".
+pub fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,14 +204,5 @@ mod tests {
             ],
             "{text}"
         );
-    }
-}
-
-/// `n` and its noun, singular or plural as English has it: "1 job", "12 jobs", "0 preps".
-pub fn counted(n: usize, noun: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
     }
 }

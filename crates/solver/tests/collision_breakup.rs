@@ -134,7 +134,7 @@ fn the_rule_names_each_way_a_cell_breaks_up() {
         None,
         "not the same piece twice in a row"
     );
-    assert_eq!(watch.check(&lat, &cfg.params, &big).is_some(), true);
+    assert!(watch.check(&lat, &cfg.params, &big).is_some());
 }
 
 #[test]

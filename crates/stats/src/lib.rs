@@ -17,7 +17,8 @@
 //!   test); and the shift between two sigmas ([`measure_shift`]), one for all columns and each column's
 //!   own with the test of one for all ([`column_shifts`] gives [`ColumnShifts`]);
 //! - where refinement adds beta values next ([`RefineRule::need`] gives a column's
-//!   [`ColumnNeed`]);
+//!   [`ColumnNeed`]; an extension climbs above the grid for a column open at its top);
+//! - the diagrams on any two axes ([`Plane::diagrams`] gives each [`PlaneDiagram`]);
 //! - two result sets compared point by point ([`compare()`] gives a [`Comparison`]), and
 //!   column by column, a variant of the numerics against a baseline ([`compare_columns`] gives
 //!   each column's [`ColumnChange`] with its [`Verdict`]: the convergence check);
@@ -42,6 +43,7 @@ pub mod fit;
 pub mod interpolation;
 pub mod label;
 mod model_line;
+pub mod plane;
 pub mod refine;
 mod sampling;
 pub mod shift;
@@ -59,5 +61,6 @@ pub use counts::{wilson, Counts, Fraction, Label};
 pub use end::{End, PerEnd, Replicate, Tally};
 pub use fit::{fit_columns, fit_line, Column, Fit, Method, NoFit, Scales};
 pub use interpolation::NoCrossing;
+pub use plane::{Plane, PlaneDiagram, PlaneError};
 pub use refine::{ColumnNeed, RefineRule};
 pub use shift::{measure_shift, Shift};

@@ -144,7 +144,7 @@ impl<'a> Run<'a> {
             self.progress.jobs_total = s.jobs.total() as u64;
             self.progress.jobs_done = s.jobs.done as u64;
             self.progress.failed = s.jobs.failed as u64;
-            self.progress.outcomes = s.outcomes.clone();
+            self.progress.outcomes = s.outcomes;
         }
         if self.ledger.sweep.refine.is_some() {
             let grid = &self.ledger.sweep.grid.beta;

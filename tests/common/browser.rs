@@ -162,7 +162,19 @@ impl Page {
 }
 
 impl Drop for Page {
+    /// Close chromium as a user would (DevTools `Browser.close`), so that it ends its helper
+    /// processes before the test's folder is removed: killed outright, they went on writing
+    /// the profile after the folder was gone and left it behind. Killed after 10 s regardless.
     fn drop(&mut self) {
+        let msg = json!({"id": self.next_id + 1, "method": "Browser.close"});
+        let _ = self.ws.send(Message::Text(msg.to_string().into()));
+        let deadline = std::time::Instant::now() + Duration::from_secs(10);
+        while std::time::Instant::now() < deadline {
+            if let Ok(Some(_)) = self.chromium.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
         let _ = self.chromium.kill();
         let _ = self.chromium.wait();
     }

@@ -13,7 +13,7 @@ impl Sweep {
         let mut out = Vec::new();
         let pairs = [
             ("", json(&self.params), json(&variant.params)),
-            ("", json(&self.protocol), json(&variant.protocol)),
+            ("", protocol(self), protocol(variant)),
             (
                 "classifier.",
                 json(&self.classifier),
@@ -32,6 +32,16 @@ impl Sweep {
         }
         out
     }
+}
+
+/// A sweep's protocol in JSON with its resolution always written (a stored definition leaves
+/// k = 1 out, which would read as `resolution: null -> 2`).
+fn protocol(sweep: &Sweep) -> Value {
+    let mut v = json(&sweep.protocol);
+    if let Value::Object(m) = &mut v {
+        m.entry("resolution").or_insert(Value::from(1));
+    }
+    v
 }
 
 fn json<T: serde::Serialize>(v: &T) -> Value {
@@ -95,5 +105,8 @@ mod tests {
             ..sweep("")
         });
         assert!(other.is_empty());
+        // A finer lattice is named from the paper's resolution, which definitions leave out.
+        let k2 = base.differences(&sweep("[protocol]\nresolution = 2\n"));
+        assert_eq!(k2, [("resolution".into(), "1".into(), "2".into())]);
     }
 }

@@ -380,4 +380,11 @@ fn diagrams_on_any_two_axes_from_the_collapse_exports() {
         }
     }
     assert!(!dir.join("none").exists());
+    // The same export twice would count every replicate twice: refused.
+    let out = cellsweep_in(&dir, &["fit", "--data", &r32, "--data", &r32]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("would count twice"),
+        "{err}"
+    );
 }

@@ -50,12 +50,12 @@ impl CountsSource {
             ([path], _) => load::from_export(path),
             ([], Some(path)) => load::from_counts_csv(path),
             ([], None) => load::from_store(&self.db, self.sweep.as_deref()),
-            (paths, _) => Ok(cellsweep_report::Results::merged(
+            (paths, _) => cellsweep_report::Results::merged(
                 paths
                     .iter()
                     .map(|p| load::from_export(p))
                     .collect::<Result<_, _>>()?,
-            )),
+            ),
         }
     }
 }

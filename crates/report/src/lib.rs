@@ -63,8 +63,10 @@ impl Results {
     /// their points side by side, named "A + B". A sweep that fixes R0 or d where another
     /// varies it gains that axis at its own value, so that `--x R0` reads the paper's R0 = 40
     /// beside a sweep over R0. Standings and prep speeds are kept where every set has them;
-    /// the first set's scales and provenance stand for the whole.
-    pub fn merged(sets: Vec<Results>) -> Results {
+    /// the first set's scales and provenance stand for the whole. A point that two sets both
+    /// hold is refused: its replicates would count twice (the same file given twice, or an
+    /// extension beside the sweep whose trajectories it repeats).
+    pub fn merged(sets: Vec<Results>) -> Result<Results, load::LoadError> {
         let axes: Vec<&str> = ["R0", "d"]
             .into_iter()
             .filter(|a| {
@@ -87,6 +89,7 @@ impl Results {
             prep_speeds: all_speeds.then(Vec::new),
             provenance: sets.first().and_then(|r| r.provenance.clone()),
         };
+        let mut seen: std::collections::HashMap<_, String> = Default::default();
         for r in sets {
             for mut c in r.counts {
                 for a in &axes {
@@ -94,6 +97,33 @@ impl Results {
                         let v = if *a == "R0" { r.scales.R0 } else { r.scales.d };
                         c.others.0.push((a.to_string(), v));
                     }
+                }
+                let mut others: Vec<(String, u64)> = c
+                    .others
+                    .0
+                    .iter()
+                    .map(|(n, v)| (n.clone(), v.to_bits()))
+                    .collect();
+                others.sort();
+                let key = (
+                    c.alpha.to_bits(),
+                    c.beta.to_bits(),
+                    c.L,
+                    c.sigma.to_bits(),
+                    others,
+                );
+                if let Some(first) = seen.insert(key, r.name.clone()) {
+                    return Err(load::LoadError::Invalid(format!(
+                        "alpha = {}, beta = {}, L = {}, sigma = {}{}{} is in both {first:?} and \
+                         {:?}: its replicates would count twice; read one of them",
+                        c.alpha,
+                        c.beta,
+                        c.L,
+                        c.sigma,
+                        if c.others.is_empty() { "" } else { ", " },
+                        c.others,
+                        r.name
+                    )));
                 }
                 out.counts.push(c);
             }
@@ -104,7 +134,7 @@ impl Results {
                 all.extend(v);
             }
         }
-        out
+        Ok(out)
     }
 
     /// These results with only the points `keep` holds (their standings and prep speeds

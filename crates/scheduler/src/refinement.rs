@@ -128,6 +128,16 @@ fn extension(
         ));
     }
     let on_step = |b: f64| ((b / rule.step) - (b / rule.step).round()).abs() <= 1e-6;
+    // A multiple of the step, so that a rung above any value refinement added stays on it too.
+    if !on_step(spacing) {
+        return Err(err(
+            "extend_step",
+            format!(
+                "{spacing} is not a multiple of the refinement's step {}",
+                rule.step
+            ),
+        ));
+    }
     if let Some(b) = (1..=rungs)
         .map(|j| top + j as f64 * spacing)
         .find(|&b| !on_step(b))

@@ -119,11 +119,15 @@ pub struct StageSteps {
 }
 
 impl Protocol {
-    /// The single-cell lattice in the solver's sites: `single_lattice` (given in l0) times the
-    /// resolution k. A prep's field has this size.
-    pub fn single_sites(&self) -> [usize; 2] {
+    /// A lattice given in l0 in the solver's sites: its sides times the resolution k.
+    pub fn sites(&self, [nx, ny]: [usize; 2]) -> [usize; 2] {
         let k = self.resolution.max(1) as usize;
-        [self.single_lattice[0] * k, self.single_lattice[1] * k]
+        [nx * k, ny * k]
+    }
+
+    /// The single-cell lattice in the solver's sites: a prep's field has this size.
+    pub fn single_sites(&self) -> [usize; 2] {
+        self.sites(self.single_lattice)
     }
 
     /// Validate the lattices and durations against the parameters; return the step counts.

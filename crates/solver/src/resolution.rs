@@ -44,9 +44,8 @@ pub fn to_lattice(params: &Params, protocol: &Protocol) -> (Params, Protocol) {
     // The diffusive number stays.
     p.dt /= k2;
     let mut q = protocol.clone();
-    let scale = |[nx, ny]: [usize; 2]| [nx * k as usize, ny * k as usize];
-    q.single_lattice = scale(q.single_lattice);
-    q.pair_lattice = scale(q.pair_lattice);
+    q.single_lattice = protocol.sites(protocol.single_lattice);
+    q.pair_lattice = protocol.sites(protocol.pair_lattice);
     q.patch.pad *= k as usize;
     (p, q)
 }

@@ -388,3 +388,69 @@ fn diagrams_on_any_two_axes_from_the_collapse_exports() {
         "{err}"
     );
 }
+
+/// The report draws the planes a sweep asks for (`[report] planes` in sweeps/collapse/*.toml,
+/// carried by their exports): beta against R0 at each alpha~/L~ of the collapse sweeps and
+/// L~ = 2.25, with the paper's R0 = 40 columns beside them where both agree, and none of the
+/// paper's columns that no asking sweep shares. A report of sweeps that ask for none has no
+/// such section.
+#[test]
+fn the_report_draws_the_planes_the_collapse_sweeps_ask_for() {
+    let dir = workdir("axes", "report-planes");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let data = |f: &str| root.join(f).display().to_string();
+    let (collapse, r40) = (
+        data("data/collapse"),
+        data("data/paper/refined-L90-sigma5.csv"),
+    );
+    let out = cellsweep_in(
+        &dir,
+        &[
+            "report", "--data", &collapse, "--data", &r40, "--out", "r.html",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(dir.join("r.html")).unwrap();
+    let start = html.find("<h2 id=\"planes\">").expect("no planes section");
+    let section = &html[start..];
+    let section = &section[..section[4..].find("<h2").map_or(section.len(), |i| i + 4)];
+    assert!(section.contains("<h3>beta against R0, one diagram per xt and Lt and sigma</h3>"));
+    assert!(
+        section.contains("Asked for by collapse-R0-32, collapse-R0-48."),
+        "{}",
+        &section[..600.min(section.len())]
+    );
+    let figures: Vec<&str> = section.split("<figure>").skip(1).collect();
+    let captions: Vec<&str> = figures
+        .iter()
+        .map(|f| {
+            let c = &f[f.find("<figcaption>").unwrap() + 12..];
+            &c[..c.find("</figcaption>").unwrap()]
+        })
+        .collect();
+    // alpha_40 = 0.10, 0.14, 0.18 at R0 = 40, L = 90 and the same alpha~/L~ at 32 and 48;
+    // the paper's alpha 0.12, 0.16, 0.20 (59.95, 79.93, 99.91) have no collapse column.
+    assert_eq!(
+        captions,
+        [
+            "xt = 49.95, Lt = 2.25, sigma = 5",
+            "xt = 69.94, Lt = 2.25, sigma = 5",
+            "xt = 89.92, Lt = 2.25, sigma = 5"
+        ]
+    );
+    for f in &figures {
+        for r0 in [">32<", ">40<", ">48<", ">R0<"] {
+            assert!(f.contains(r0), "{r0} missing from a figure");
+        }
+    }
+    assert!(html.contains("<a href=\"#planes\">Other planes</a>"));
+    // No sweep of the paper's asks for a plane: no section, no link.
+    let out = cellsweep_in(&dir, &["report", "--data", &r40, "--out", "p.html"]);
+    assert!(out.status.success());
+    let html = std::fs::read_to_string(dir.join("p.html")).unwrap();
+    assert!(!html.contains("id=\"planes\"") && !html.contains("#planes"));
+}

@@ -78,15 +78,15 @@ pub enum FitFormat {
 #[derive(Debug, Args)]
 pub struct PlaneArgs {
     /// The axis across the diagrams: alpha (the paper's), beta, L, sigma, any other axis of
-    /// the sweep (R0, E0, ...), or xt, alpha~/L~ at each point's own R0 and d.
+    /// the sweep (R0, E0, ...), xt (alpha~/L~ at each point's own R0 and d) or Lt (L/R0).
     #[arg(long, default_value = "alpha", value_name = "AXIS")]
     pub x: String,
     /// The axis up the diagrams (beta, the paper's, or any as for --x).
     #[arg(long, default_value = "beta", value_name = "AXIS")]
     pub y: String,
     /// The axes that tell one diagram from another, comma-separated (default: every axis of
-    /// the points but --x and --y; `--x R0 --by xt,sigma` sets cell sizes side by side at one
-    /// alpha~/L~).
+    /// the points but --x and --y; `--x R0 --by xt,sigma,Lt` sets cell sizes side by side at
+    /// one alpha~/L~ and the paper's geometry scaled).
     #[arg(long, value_name = "AXIS,...", value_delimiter = ',')]
     pub by: Vec<String>,
 }

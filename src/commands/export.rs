@@ -233,7 +233,7 @@ fn import_into(
     };
     if retuned {
         println!(
-            "note: sweep {:?} in the store takes the file's replicates, [adaptive] and [refine] \
+            "note: sweep {:?} in the store takes the file's replicates, [adaptive], [refine] and [report] \
              rules (its points and results are kept)",
             sweep.name
         );

@@ -9,6 +9,7 @@ use cellsweep_stats::{fit_columns, fit_line, measure_shift, Column, Fit, Method,
 use crate::collapse::Placed;
 
 use crate::collection::{Collection, DiagramKey};
+use crate::planes::{asked_planes, AskedPlane};
 use crate::Results;
 
 /// Bootstrap resamples of every interval in a report (seeded: a report is reproducible).
@@ -32,6 +33,8 @@ pub struct Analysis<'a> {
     /// Every shown column with its sweep's scales, and the line through all of them.
     pub collapse_columns: Vec<Placed>,
     pub collapse: Result<Fit, NoFit>,
+    /// The diagrams on other axes the shown sweeps ask for.
+    pub planes: Vec<AskedPlane>,
 }
 
 impl<'a> Analysis<'a> {
@@ -68,6 +71,7 @@ impl<'a> Analysis<'a> {
             collapse: fit_columns(pooled, RESAMPLES, SEED),
             collapse_columns,
             per_diagram,
+            planes: asked_planes(&collection),
             collection,
         }
     }

@@ -243,6 +243,7 @@ mod tests {
                 replicates: n as u32,
                 preps_per_point: preps,
                 adaptive: None,
+                planes: Vec::new(),
                 refine: None,
                 precision: "f32".into(),
                 collide_time: 400.0,

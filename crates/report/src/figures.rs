@@ -142,6 +142,7 @@ fn axis_label(name: &str) -> String {
         "beta" => "β".into(),
         "sigma" => "σ".into(),
         cellsweep_stats::plane::XT => "α̃/L̃".into(),
+        cellsweep_stats::plane::LT => "L̃".into(),
         other => other.into(),
     }
 }

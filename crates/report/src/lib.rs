@@ -17,6 +17,7 @@ pub mod collection;
 pub mod figures;
 pub mod html;
 pub mod load;
+pub mod planes;
 pub mod plot_files;
 pub mod text;
 pub mod whole_file;
@@ -141,10 +142,15 @@ impl Results {
     /// follow them).
     pub fn only(self, keep: impl Fn(&Counts) -> bool) -> Results {
         let kept: Vec<bool> = self.counts.iter().map(&keep).collect();
+        self.keep(&kept)
+    }
+
+    /// These results with only the points whose flag in `kept` is set (by index).
+    pub fn keep(self, kept: &[bool]) -> Results {
         Results {
-            counts: pick(self.counts, &kept),
-            standings: self.standings.map(|v| pick(v, &kept)),
-            prep_speeds: self.prep_speeds.map(|v| pick(v, &kept)),
+            counts: pick(self.counts, kept),
+            standings: self.standings.map(|v| pick(v, kept)),
+            prep_speeds: self.prep_speeds.map(|v| pick(v, kept)),
             ..self
         }
     }
@@ -173,6 +179,8 @@ pub struct Provenance {
     pub adaptive: Option<AdaptiveRule>,
     /// The sweep's refinement rule, if it has one.
     pub refine: Option<RefineRule>,
+    /// Diagrams on other axes the sweep asks the report to draw (`[report] planes`).
+    pub planes: Vec<cellsweep_stats::Plane>,
     /// "f32" or "f64" collisions.
     pub precision: String,
     /// tau0 of each collision.

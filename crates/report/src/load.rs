@@ -218,6 +218,7 @@ fn provenance(source: &str, sweep: &Sweep, rows: &[ExportRow], points: usize) ->
         preps_per_point: sweep.preps_per_point,
         adaptive: sweep.adaptive,
         refine: sweep.refine,
+        planes: sweep.planes.clone(),
         precision: sweep.protocol.precision.as_str().to_string(),
         collide_time: sweep.protocol.collide_time,
         solver_versions: versions,

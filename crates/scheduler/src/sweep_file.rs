@@ -36,6 +36,7 @@ pub struct SweepFile {
     pub adaptive: Option<AdaptiveFile>,
     pub refine: Option<RefineFile>,
     pub run: Option<RunFile>,
+    pub report: Option<ReportFile>,
 }
 
 /// `[grid]`'s paper axes.
@@ -97,6 +98,22 @@ pub struct RefineFile {
     pub per_round: Option<Whole>,
     pub extend_to: Option<Real>,
     pub extend_step: Option<Real>,
+}
+
+/// `[report]`: what the report draws beyond the paper's diagrams.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReportFile {
+    pub planes: Option<Vec<PlaneFile>>,
+}
+
+/// One plane the report draws: `{ x = "R0", y = "beta", by = ["xt", "sigma"] }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneFile {
+    pub x: String,
+    pub y: String,
+    pub by: Option<Vec<String>>,
 }
 
 /// `[run]`: fault handling.

@@ -96,3 +96,57 @@ fn a_missing_file_is_named() {
         "{e}"
     );
 }
+
+/// `[report] planes` (issue 50): diagrams on other axes the report draws, each axis a SPEC
+/// parameter or a derived one (xt, Lt), checked when the file is read; stored with the
+/// definition but not part of the sweep's identity.
+#[test]
+fn report_planes_are_checked_and_are_not_the_sweeps_identity() {
+    let with = |planes: &str| format!("{GOOD}[report]\nplanes = [{planes}]\n");
+    let s = Sweep::parse(
+        &with(r#"{ x = "R0", y = "beta", by = ["xt", "Lt", "sigma"] }, { x = "beta", y = "E0" }"#),
+        "good.toml",
+    )
+    .unwrap();
+    assert_eq!(s.planes.len(), 2);
+    assert_eq!(s.planes[0].x, "R0");
+    assert_eq!(
+        s.planes[0].by.as_deref(),
+        Some(&["xt".to_string(), "Lt".into(), "sigma".into()][..])
+    );
+    assert_eq!(s.planes[1].by, None);
+    // The definition carries them (an export's header does), and a stored sweep that differs
+    // only in its planes is the same sweep, retuned.
+    let plain = Sweep::parse(GOOD, "good.toml").unwrap().canonical_json();
+    assert!(s.canonical_json().contains(r#""planes":[{"x":"R0""#));
+    assert!(!plain.contains("planes"));
+    assert_eq!(
+        cellsweep_store::spec_change(&plain, &s.canonical_json()),
+        cellsweep_store::SpecChange::Retuned
+    );
+    for (planes, says) in [
+        (r#"{ x = "R1", y = "beta" }"#, "\"R1\" is not an axis"),
+        (r#"{ x = "beta", y = "beta" }"#, "x and y are both beta"),
+        (
+            r#"{ x = "R0", y = "beta", by = ["R0"] }"#,
+            "by names R0, which is x or y",
+        ),
+        (
+            r#"{ x = "R0", y = "beta", by = ["xt", "xt"] }"#,
+            "by names xt twice",
+        ),
+        (
+            r#"{ x = "alpha", y = "beta" }"#,
+            "the paper's: always drawn",
+        ),
+        (
+            r#"{ x = "R0", y = "beta" }, { x = "R0", y = "beta" }"#,
+            "asked for twice",
+        ),
+        (r#"{ x = "R0", y = "beta", colour = 1 }"#, "colour"),
+        (r#"{ x = "$(rm -rf /)", y = "beta" }"#, "is not an axis"),
+    ] {
+        let e = error(&with(planes), "report.planes");
+        assert!(e.contains(says), "{planes}: {e}");
+    }
+}

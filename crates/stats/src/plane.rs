@@ -7,7 +7,8 @@
 //! (R0, E0, geometry, ...), or `xt`, the point's alpha~/L~ with the adhesion shift (SPEC
 //! section 6, at its own R0 and d): the coordinate the sharp-interface theory says the crossing
 //! depends on, so that `--x R0 --y beta --by xt,sigma` sets cells of different sizes side by
-//! side where the theory says they should look alike.
+//! side where the theory says they should look alike; `Lt`, L~ = L / R0, tells the paper's
+//! geometry scaled (R0 = 32 at L = 72, 40 at 90, 48 at 108: L~ = 2.25) from its other spacings.
 
 use std::collections::HashMap;
 
@@ -16,6 +17,11 @@ use crate::fit::Scales;
 
 /// The derived axis alpha~/L~ (with the adhesion shift).
 pub const XT: &str = "xt";
+/// The derived axis L~ = L / R0 (SPEC section 6), at the point's own R0: cells of different
+/// sizes at the same L~ are the paper's geometry scaled.
+pub const LT: &str = "Lt";
+/// The derived axes, functions of the others.
+pub const DERIVED: [&str; 2] = [XT, LT];
 
 /// Why a plane cannot be drawn: one line naming the axis or the points.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -39,12 +45,14 @@ pub enum PlaneError {
     },
 }
 
-/// Two axes of a diagram and the axes that name each diagram.
-#[derive(Debug, Clone, PartialEq)]
+/// Two axes of a diagram and the axes that name each diagram (also as a sweep file's
+/// `[report] planes` asks for it: `{ x = "R0", y = "beta", by = ["xt", "sigma"] }`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plane {
     pub x: String,
     pub y: String,
     /// The axes that tell diagrams apart; None: every axis of the points but x and y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub by: Option<Vec<String>>,
 }
 
@@ -71,6 +79,10 @@ impl PlaneDiagram {
 pub fn shown(axis: &str, v: f64) -> String {
     match axis {
         XT => format!("{v:.2}"),
+        LT => {
+            let s = format!("{v:.4}");
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        }
         "geometry" if v == 1.0 => "one".into(),
         "geometry" if v == 2.0 => "two".into(),
         _ => format!("{v}"),
@@ -107,6 +119,7 @@ impl Plane {
             "L" => Some(f64::from(c.L)),
             "sigma" => Some(c.sigma),
             XT => Some(scales.at(&c.others).x(c.alpha, c.L, c.sigma)),
+            LT => Some(f64::from(c.L) / scales.at(&c.others).R0),
             other => c.others.get(other),
         }
     }
@@ -124,13 +137,13 @@ impl Plane {
                 }
             }
         }
-        out.push(XT.into());
+        out.extend(DERIVED.map(String::from));
         out
     }
 
-    /// The diagrams of `counts` in this plane: grouped by the `by` axes (sorted by their
-    /// values), each cell holding at most one point.
-    pub fn diagrams(
+    /// The points of `counts` grouped by the `by` axes (sorted by their values), two points
+    /// in one cell allowed: [`Plane::diagrams`] refuses those.
+    pub fn groups(
         &self,
         counts: &[Counts],
         scales: &Scales,
@@ -144,7 +157,7 @@ impl Plane {
             // Every axis but x, y and the derived xt (a function of the others).
             None => have
                 .iter()
-                .filter(|a| **a != self.x && **a != self.y && *a != XT)
+                .filter(|a| **a != self.x && **a != self.y && !DERIVED.contains(&a.as_str()))
                 .cloned()
                 .collect(),
         };
@@ -161,7 +174,7 @@ impl Plane {
         }
         // xt comes out of float arithmetic: columns meant alike agree to about 1e-10.
         let key = |axis: &str, v: f64| match axis {
-            XT => (v * 1e6).round().to_bits(),
+            XT | LT => (v * 1e6).round().to_bits(),
             _ => v.to_bits(),
         };
         let mut groups: Vec<PlaneDiagram> = Vec::new();
@@ -189,6 +202,18 @@ impl Plane {
                 .find(|o| o.is_ne())
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
+        Ok(groups)
+    }
+
+    /// The diagrams of `counts` in this plane: grouped by the `by` axes (sorted by their
+    /// values), each cell holding at most one point.
+    pub fn diagrams(
+        &self,
+        counts: &[Counts],
+        scales: &Scales,
+    ) -> Result<Vec<PlaneDiagram>, PlaneError> {
+        let groups = self.groups(counts, scales)?;
+        let have = Self::axes_of(counts);
         for g in &groups {
             self.one_point_per_cell(g, counts, scales, &have)?;
         }

@@ -341,6 +341,8 @@ pub fn spec_change(stored: &str, new: &str) -> SpecChange {
         let map = v.as_object_mut()?;
         let n = map.remove("replicates")?.as_u64()?;
         map.remove("adaptive");
+        // What the report draws is not what a trajectory gives.
+        map.remove("planes");
         // An extension beyond the grid is a sweep of its own (SPEC section 6: never in the
         // paper's sweep): extend_to stays part of the identity.
         let extension = map

@@ -221,6 +221,7 @@ mod tests {
                 replicates: 96,
                 preps_per_point: 1,
                 adaptive: None,
+                planes: Vec::new(),
                 refine: None,
                 precision: "f64".into(),
                 collide_time: 400.0,

@@ -14,6 +14,7 @@ mod collapse;
 mod convergence;
 mod diagrams;
 mod line;
+mod planes;
 mod provenance;
 mod shift;
 
@@ -21,6 +22,7 @@ use collapse::collapse_section;
 use convergence::convergence_section;
 use diagrams::{checks_section, diagrams_section};
 use line::{columns_section, cost_section, fit_section};
+use planes::planes_section;
 use provenance::provenance_section;
 
 /// A value with its 95% interval ("18.21 [17.60, 18.83]"), or alone where it has none.
@@ -115,6 +117,7 @@ pub fn render(all: &[Results], variants: &[Results], generated: &str) -> String 
     convergence_section(&mut h, &an, variants);
     cost_section(&mut h, &an);
     diagrams_section(&mut h, &an);
+    planes_section(&mut h, &an);
     checks_section(&mut h, &an);
     provenance_section(&mut h, all, &an, generated);
     h.push_str("</body>\n</html>\n");
@@ -173,7 +176,7 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
          not, and {} wait for diagrams not yet run.</p>\n{running}\
          <nav><a href=\"#claims\">Claims</a><a href=\"#fit\">The line</a><a href=\"#collapse\">One line?</a>\
          <a href=\"#columns\">β* per column</a><a href=\"#converged\">Converged?</a>\
-         <a href=\"#diagrams\">Diagrams</a>\
+         <a href=\"#diagrams\">Diagrams</a>{planes}\
          <a href=\"#checks\">Speed and spindle</a><a href=\"#provenance\">Provenance</a></nav>\n",
         escape(generated),
         claims.len(),
@@ -181,6 +184,7 @@ fn header(h: &mut String, an: &Analysis<'_>, claims: &[Claim], generated: &str) 
         count(Verdict::Partly),
         count(Verdict::Not),
         count(Verdict::NoData),
+        planes = if an.planes.is_empty() { "" } else { "<a href=\"#planes\">Other planes</a>" },
     );
 }
 

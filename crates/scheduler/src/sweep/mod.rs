@@ -31,6 +31,8 @@
 //! width = 1.0                              # until beta*'s 95% interval is this narrow
 //! step = 0.5                               # on multiples of this, at most
 //! max_new_per_column = 6                   # values per column, 2 per round (per_round)
+//! [report]                                 # optional: diagrams on other axes (not identity)
+//! planes = [{ x = "R0", y = "beta", by = ["xt", "sigma"] }]
 //! [run]                                    # optional: fault handling
 //! job_timeout = 3600                       # seconds per job before the worker is killed
 //! max_attempts = 3
@@ -49,6 +51,7 @@ mod differences;
 mod layout;
 mod others;
 mod points;
+mod report;
 pub use cellsweep_stats::Axes;
 pub use others::{proportional_side, OtherAxis};
 
@@ -110,6 +113,11 @@ pub struct Sweep {
     /// which points run, never what a point gives.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<RefineRule>,
+    /// Diagrams on other axes the report draws (`[report] planes`): stored with the
+    /// definition so that an export carries them, but not part of its identity (like
+    /// `adaptive`, they may change under the same name).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub planes: Vec<cellsweep_stats::Plane>,
     /// Not part of the sweep's identity: changing it does not make a different sweep.
     #[serde(skip)]
     pub run: RunSettings,
@@ -432,6 +440,7 @@ impl Sweep {
         let run = f
             .run
             .map_or(Ok(RunSettings::default()), |r| run_settings(&r, &cx))?;
+        let planes = report::planes(f.report, &cx)?;
 
         let sweep = Sweep {
             name,
@@ -445,6 +454,7 @@ impl Sweep {
             lattices_follow_r0,
             adaptive,
             refine,
+            planes,
             run,
         };
         check_size(&sweep, &cx)?;

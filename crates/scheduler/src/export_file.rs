@@ -1,10 +1,14 @@
-//! An export file (`cellsweep export`) read back, for `import` and for every reader of
-//! results (`cellsweep_report::Results::from_export`): the sweep's definition on its second
-//! line, then one CSV row per finished replicate.
+//! The export file (`cellsweep export`): written from a store by [`write_export`], read back
+//! by [`read_export`] for `import` and for every reader of results
+//! (`cellsweep_report::Results::from_export`). Its first line names the format, the sweep and
+//! the solver, its second holds the sweep's definition, then one CSV row per finished
+//! replicate ([`ExportRow`]).
 
 use std::path::Path;
 
+use cellsweep_solver::{Params, SOLVER_VERSION};
 use cellsweep_store::export::{ExportRow, EXPORT_FORMAT, READ_FORMATS};
+use cellsweep_store::{Store, StoreError};
 
 use crate::sweep::Sweep;
 
@@ -12,6 +16,43 @@ use crate::sweep::Sweep;
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct ExportFileError(pub String);
+
+/// Why an export could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportWriteError {
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    #[error(transparent)]
+    Csv(#[from] csv::Error),
+    #[error(transparent)]
+    Json(#[from] serde_json::Error),
+}
+
+/// Write sweep `name`'s export from `store` to `out`: the format line, the sweep's definition
+/// (so that `import` can register it anywhere), one row per finished replicate. Returns the
+/// rows written.
+pub fn write_export(
+    store: &Store,
+    name: &str,
+    out: &mut dyn std::io::Write,
+) -> Result<usize, ExportWriteError> {
+    let id = store.sweep_id(name)?;
+    let defaults = serde_json::to_value(Params::default())?;
+    let rows = store.export_rows(id, SOLVER_VERSION, &defaults)?;
+    writeln!(
+        out,
+        "# cellsweep export format {EXPORT_FORMAT}; sweep {name:?}; {SOLVER_VERSION}"
+    )?;
+    writeln!(out, "# spec {}", store.sweep_spec(id)?)?;
+    let mut w = csv::Writer::from_writer(out);
+    for r in &rows {
+        w.serialize(r)?;
+    }
+    w.flush()?;
+    Ok(rows.len())
+}
 
 /// An export file read back: its sweep's definition (line 2, checked: name and every point's
 /// model) and its rows. Each problem names the file and the line or row.

@@ -6,11 +6,13 @@
 //! work enters the store (every record checked against the job it claims; an adaptive sweep's
 //! rounds planned), [`coordinator`] dispatches jobs to worker processes ([`pool`]) speaking JSON
 //! lines ([`wire`]), [`slurm`] runs them as Slurm job arrays, and [`worker`] is the worker side.
+//! [`export_file`] reads the export format and [`import`] brings an export into a store.
 
 pub mod coordinator;
 pub mod error;
 pub mod export_file;
 pub mod grid;
+pub mod import;
 pub mod ledger;
 pub mod limits;
 pub mod lock;

@@ -120,7 +120,7 @@ pub fn import(
             points: &points,
             targets: &targets,
         };
-        job.into_store(store, on)
+        job.commit_into(store, on)
     });
     if let Some(tmp) = &building {
         let placed = match &done {
@@ -189,7 +189,7 @@ impl Job<'_> {
     /// equal). The results of points whose prep is unstable or broke up are written by the
     /// prep itself, so rows of a fresh store can be "already stored": they count as new unless
     /// the store held them before the import.
-    fn into_store(
+    fn commit_into(
         &self,
         store: &mut Store,
         on: &mut dyn FnMut(ImportEvent),

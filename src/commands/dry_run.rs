@@ -150,7 +150,7 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
         if let Ok(id) = store.sweep_id(&sweep.name) {
             let ledger = cellsweep_scheduler::Ledger::load(store, id, SOLVER_VERSION)?;
             let columns = ledger.refine_standing(store, rule)?;
-            let (lines, next) = super::refine_lines::lines(&columns, rule, "    ");
+            let (lines, next) = cellsweep_report::status::refinement::lines(&columns, rule, "    ");
             println!("  refine now: {}", lines.join("\n"));
             let jobs = next.values as f64 * f64::from(sweep.initial_replicates());
             let cost = next.values as f64 * prep_s + jobs * collision_s;

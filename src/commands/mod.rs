@@ -8,7 +8,6 @@ mod export;
 mod fit;
 mod model;
 mod plot;
-mod refine_lines;
 mod relax;
 mod replay;
 mod report;

@@ -217,6 +217,15 @@ fn rounds(h: &mut String, v: &SweepView) {
         "<p>points: <span data-field=\"points\">{}</span>{refined}</p>",
         v.points
     );
+    // The refined columns as `cellsweep status` words them (the same function).
+    if let Some((rule, columns)) = &v.refinement {
+        let (lines, _) = cellsweep_report::status::refinement::lines(columns, rule, "");
+        let _ = writeln!(
+            h,
+            "<p>refine: <span data-field=\"refine\">{}</span></p>",
+            escape(&lines.join("; "))
+        );
+    }
     if !v.box_limited.is_empty() {
         let _ = writeln!(
             h,

@@ -118,7 +118,7 @@ impl Watcher {
                 // A store that cannot be read now (replaced, or mid-migration): open it anew
                 // next time, and say why meanwhile.
                 self.store = None;
-                Some(Snapshot::empty(&self.path, e))
+                Some(Snapshot::empty(&self.path, e.to_string()))
             }
         }
     }

@@ -156,18 +156,6 @@ pub enum SlurmError {
     Sbatch { script: String, message: String },
 }
 
-impl From<String> for SlurmError {
-    fn from(why: String) -> Self {
-        SlurmError::Refused(why)
-    }
-}
-
-impl From<&str> for SlurmError {
-    fn from(why: &str) -> Self {
-        SlurmError::Refused(why.to_string())
-    }
-}
-
 /// Why the queue's answer is unknown. Never read as "nothing queued".
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum QueueError {

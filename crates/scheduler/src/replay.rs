@@ -71,7 +71,9 @@ pub struct Replayed {
 
 /// The configuration row `row` of `sweep` was computed with.
 pub fn config_of_row(sweep: &Sweep, row: &ExportRow) -> Result<Config, ReplayError> {
-    let axes = sweep.axes_of_row(row).map_err(ReplayError::Row)?;
+    let axes = sweep
+        .axes_of_row(row)
+        .map_err(|e| ReplayError::Row(e.to_string()))?;
     let params = sweep.point(&axes);
     let protocol = sweep.protocol_for(&params);
     if protocol.precision.as_str() != row.precision {

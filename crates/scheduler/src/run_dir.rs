@@ -31,22 +31,20 @@ pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), Slu
     let stamp = run_dir.join(STAMP);
     match std::fs::read_to_string(&stamp) {
         Ok(found) if found.trim() == uid => Ok(()),
-        Ok(found) => Err(format!(
+        Ok(found) => Err(SlurmError::Refused(format!(
             "{} holds the files of another sweep (uid {}, this one is {uid}); choose another \
              --run-dir or remove that directory",
             run_dir.display(),
             found.trim()
-        )
-        .into()),
+        ))),
         Err(_) => {
             let empty = std::fs::read_dir(run_dir).map_or(true, |mut d| d.next().is_none());
             if !empty {
-                return Err(format!(
+                return Err(SlurmError::Refused(format!(
                     "{} is not empty and has no {STAMP}: it is not this sweep's run directory; \
                      choose another --run-dir",
                     run_dir.display()
-                )
-                .into());
+                )));
             }
             if !dry_run {
                 std::fs::create_dir_all(run_dir).map_err(|e| io(e, run_dir))?;
@@ -61,16 +59,14 @@ pub fn claim_run_dir(run_dir: &Path, uid: &str, dry_run: bool) -> Result<(), Slu
 pub fn run_dir_is(run_dir: &Path, uid: &str) -> Result<(), SlurmError> {
     match std::fs::read_to_string(run_dir.join(STAMP)) {
         Ok(found) if found.trim() == uid => Ok(()),
-        Ok(found) => Err(format!(
+        Ok(found) => Err(SlurmError::Refused(format!(
             "{} holds the files of another sweep (uid {}, this one is {uid}); not read",
             run_dir.display(),
             found.trim()
-        )
-        .into()),
-        Err(_) => Err(format!(
+        ))),
+        Err(_) => Err(SlurmError::Refused(format!(
             "{} has no {STAMP} naming this sweep; not read",
             run_dir.display()
-        )
-        .into()),
+        ))),
     }
 }

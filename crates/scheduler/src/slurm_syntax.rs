@@ -3,9 +3,14 @@
 //! extra option as one word (no space, quote, `$`, backtick, `;` or backslash can reach a
 //! script).
 
+/// A value Slurm would not read, with what it should look like.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct SyntaxError(pub String);
+
 /// Slurm's `--time`: `MM`, `MM:SS`, `HH:MM:SS`, `D-HH`, `D-HH:MM`, `D-HH:MM:SS`, or
 /// `UNLIMITED` / `INFINITE`; every field a whole number, the time not zero.
-pub fn time_limit(s: &str) -> Result<(), String> {
+pub fn time_limit(s: &str) -> Result<(), SyntaxError> {
     let bad = || {
         format!(
             "{s:?} is not a Slurm time limit (MM, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS, \
@@ -26,15 +31,15 @@ pub fn time_limit(s: &str) -> Result<(), String> {
         None => (1..=3).contains(&fields.len()),
     };
     if !shape_ok || !fields.iter().all(|f| whole(f)) {
-        return Err(bad());
+        return Err(SyntaxError(bad()));
     }
     let n = |f: &str| f.parse::<u64>().unwrap_or(0);
     // Minutes and seconds past the first field are below 60.
     if fields.iter().skip(1).any(|f| n(f) >= 60) {
-        return Err(bad());
+        return Err(SyntaxError(bad()));
     }
     if days.map_or(0, n) + fields.iter().map(|f| n(f)).sum::<u64>() == 0 {
-        return Err(format!("{s:?} is a time limit of zero"));
+        return Err(SyntaxError(format!("{s:?} is a time limit of zero")));
     }
     Ok(())
 }
@@ -44,34 +49,34 @@ fn is_name_char(c: char) -> bool {
 }
 
 /// A Slurm partition, or a comma-separated list of them (sbatch takes either).
-pub fn partition(s: &str) -> Result<(), String> {
+pub fn partition(s: &str) -> Result<(), SyntaxError> {
     if !s.is_empty()
         && s.split(',')
             .all(|p| !p.is_empty() && p.chars().all(is_name_char))
     {
         Ok(())
     } else {
-        Err(format!(
+        Err(SyntaxError(format!(
             "{s:?} is not a Slurm partition (letters, digits, '_', '-', '.'; several separated \
              by commas)"
-        ))
+        )))
     }
 }
 
 /// A Slurm account name.
-pub fn account(s: &str) -> Result<(), String> {
+pub fn account(s: &str) -> Result<(), SyntaxError> {
     if !s.is_empty() && s.chars().all(is_name_char) {
         Ok(())
     } else {
-        Err(format!(
+        Err(SyntaxError(format!(
             "{s:?} is not a Slurm account (letters, digits, '_', '-', '.')"
-        ))
+        )))
     }
 }
 
 /// One extra sbatch option as one word: `--name`, `--name=value` or `-X` / `-Xvalue`, the
 /// value free of whitespace, quotes, `$`, backticks, `;`, `\`, `<` and `>`.
-pub fn sbatch_arg(s: &str) -> Result<(), String> {
+pub fn sbatch_arg(s: &str) -> Result<(), SyntaxError> {
     let (name, value) = match s.split_once('=') {
         Some((n, v)) => (n, Some(v)),
         None => (s, None),
@@ -93,10 +98,10 @@ pub fn sbatch_arg(s: &str) -> Result<(), String> {
     if (long || short) && safe(name) && value.is_none_or(|v| !v.is_empty() && safe(v)) {
         Ok(())
     } else {
-        Err(format!(
+        Err(SyntaxError(format!(
             "{s:?} is not one sbatch option (--name or --name=value, one word without spaces, \
              quotes, $, backticks, ;, \\, < or >)"
-        ))
+        )))
     }
 }
 

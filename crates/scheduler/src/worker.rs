@@ -99,9 +99,9 @@ pub fn answer(req: Request, cache: &mut PrepCache) -> Response {
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
-            Err(format!("solver panicked: {msg}"))
+            Err(JobError::Panicked(msg))
         })
-        .unwrap_or_else(failed)
+        .unwrap_or_else(|e| failed(e.to_string()))
 }
 
 /// Keep `value` as prep `id` in a worker's cache of at most [`CACHE`] preps, the oldest
@@ -115,7 +115,20 @@ pub fn remember<T>(cache: &mut VecDeque<(i64, T)>, id: i64, value: T) {
     cache.push_back((id, value));
 }
 
-fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, String> {
+/// Why a job or prep gave no result (sent back as the failed attempt's error).
+#[derive(Debug, thiserror::Error)]
+enum JobError {
+    #[error(transparent)]
+    Solver(#[from] cellsweep_solver::SolverError),
+    #[error(transparent)]
+    Payload(#[from] crate::error::PayloadError),
+    #[error("prep {0} was not sent to this worker")]
+    MissingPrep(i64),
+    #[error("solver panicked: {0}")]
+    Panicked(String),
+}
+
+fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, JobError> {
     let started = Instant::now();
     match req {
         Request::Prep {
@@ -130,7 +143,7 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, S
                     wall_s: started.elapsed().as_secs_f64(),
                 })
             }
-            Err(e) => Err(e.to_string()),
+            Err(e) => Err(e.into()),
         },
         Request::Collide {
             task,
@@ -141,14 +154,10 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, S
             ..
         } => {
             if let Some(payload) = prep {
-                remember(
-                    cache,
-                    prep_id,
-                    payload.to_prep().map_err(|e| e.to_string())?,
-                );
+                remember(cache, prep_id, payload.to_prep()?);
             }
             let Some((_, prep)) = cache.iter().find(|(k, _)| *k == prep_id) else {
-                return Err(format!("prep {prep_id} was not sent to this worker"));
+                return Err(JobError::MissingPrep(prep_id));
             };
             if prep.verdict != Verdict::Ok {
                 // No collision starts from a cell that is not `ok` (SPEC section 4): a Slurm
@@ -174,7 +183,7 @@ fn handle(req: Request, cache: &mut VecDeque<(i64, Prep)>) -> Result<Response, S
                 result: Box::new(TrajectoryResult::new(&config, prep, seed, Some(&c))),
                 wall_s: started.elapsed().as_secs_f64(),
             })
-            .map_err(|e| e.to_string())
+            .map_err(JobError::from)
         }
     }
 }

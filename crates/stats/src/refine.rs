@@ -93,23 +93,6 @@ fn open_above(why: &NoModelCrossing) -> bool {
 }
 
 impl RefineRule {
-    /// The rule's own checks: a positive width and step, a budget of at least one value.
-    pub fn check(&self) -> Result<(), String> {
-        if !(self.width.is_finite() && self.width > 0.0) {
-            return Err(format!("width = {} must be a number > 0", self.width));
-        }
-        if !(self.step.is_finite() && self.step > 0.0) {
-            return Err(format!("step = {} must be a number > 0", self.step));
-        }
-        if self.per_round == 0 || self.max_new_per_column == 0 {
-            return Err("per_round and max_new_per_column must be at least 1".into());
-        }
-        if let Some(e) = self.extend_step.filter(|e| !(e.is_finite() && *e > 0.0)) {
-            return Err(format!("extend_step = {e} must be a number > 0"));
-        }
-        Ok(())
-    }
-
     /// The values an extension adds to a column open at its top: the next `per_round` values
     /// of the ladder above its highest beta (`extend_step` apart, at most `extend_to`, within
     /// the budget). None where the rule has no extension, the column is not open at its top,
@@ -431,19 +414,5 @@ mod tests {
             panic!("a round was owed");
         };
         assert_eq!(v, vec![0.2, 0.3]);
-        assert!(RefineRule {
-            width: f64::NAN,
-            ..RULE
-        }
-        .check()
-        .is_err());
-        assert!(RefineRule { step: 0.0, ..RULE }.check().is_err());
-        assert!(RefineRule {
-            per_round: 0,
-            ..RULE
-        }
-        .check()
-        .is_err());
-        assert!(RULE.check().is_ok());
     }
 }

@@ -49,21 +49,23 @@ pub(super) fn compute(
             estimate,
         });
     }
-    let computed: Vec<(f64, Result<PrepPayload, String>)> = missing
+    let computed: Vec<(f64, Result<PrepPayload, ImportError>)> = missing
         .par_iter()
         .map(|p| {
             let start = std::time::Instant::now();
+            let failed =
+                |why: &dyn std::fmt::Display| ImportError::Prep(format!("prep {}: {why}", p.id));
             let payload = serde_json::from_str::<Config>(&p.config)
-                .map_err(|e| e.to_string())
+                .map_err(|e| failed(&e))
                 .and_then(|c| {
-                    prepare(&c.params, &c.protocol, p.seed, &mut Silent).map_err(|e| e.to_string())
+                    prepare(&c.params, &c.protocol, p.seed, &mut Silent).map_err(|e| failed(&e))
                 })
                 .map(|prep| PrepPayload::from_prep(&prep));
             (start.elapsed().as_secs_f64(), payload)
         })
         .collect();
     for (p, (took, payload)) in missing.iter().zip(computed) {
-        let payload = payload.map_err(|why| ImportError::Prep(format!("prep {}: {why}", p.id)))?;
+        let payload = payload?;
         // The prep's cost where the rows were made, if they say; else this recomputation's.
         let wall_s = recorded(p.seed).unwrap_or(took);
         let settled = ledger.settle_prep(store, p.id, &payload, wall_s)?;

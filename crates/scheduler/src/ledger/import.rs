@@ -28,7 +28,7 @@ impl Ledger {
     pub fn check_row(&self, store: &Store, row: &ExportRow) -> Result<RowCheck, RunError> {
         let axes = match self.sweep.axes_of_row(row) {
             Ok(axes) => axes,
-            Err(why) => return Ok(RowCheck::Refused(why)),
+            Err(why) => return Ok(RowCheck::Refused(why.to_string())),
         };
         let at = format!("{axes}, replicate {}", row.replicate);
         let refuse = |why: String| Ok(RowCheck::Refused(format!("{at}: {why}")));

@@ -53,7 +53,7 @@ fn serve_task(sub_dir: &Path, kind: &str, task: usize) -> Result<Option<String>,
     let results = sub_dir.join(format!("results/{kind}-{task}.jsonl"));
     let preps_dir = sub_dir
         .parent()
-        .ok_or("run directory has no parent")?
+        .ok_or_else(|| SlurmError::Refused("run directory has no parent".into()))?
         .join("preps");
     let done: std::collections::HashSet<i64> = read_responses(&results)
         .0
@@ -72,8 +72,8 @@ fn serve_task(sub_dir: &Path, kind: &str, task: usize) -> Result<Option<String>,
                 lines.len()
             )));
         }
-        let mut req: Request =
-            serde_json::from_str(line).map_err(|e| format!("{}: {e}", tasks.display()))?;
+        let mut req: Request = serde_json::from_str(line)
+            .map_err(|e| SlurmError::Refused(format!("{}: {e}", tasks.display())))?;
         if done.contains(&req.task()) {
             continue;
         }
@@ -129,10 +129,12 @@ fn serve_task(sub_dir: &Path, kind: &str, task: usize) -> Result<Option<String>,
 fn array_task_id() -> Result<usize, SlurmError> {
     std::env::var("SLURM_ARRAY_TASK_ID")
         .map_err(|_| {
-            "SLURM_ARRAY_TASK_ID is not set (this mode runs inside a Slurm array task)".to_string()
+            SlurmError::Refused(
+                "SLURM_ARRAY_TASK_ID is not set (this mode runs inside a Slurm array task)".into(),
+            )
         })?
         .parse()
-        .map_err(|e| format!("bad SLURM_ARRAY_TASK_ID: {e}").into())
+        .map_err(|e| SlurmError::Refused(format!("bad SLURM_ARRAY_TASK_ID: {e}")))
 }
 
 /// The task's record file, opened to append; a torn last line (a task killed mid-write) is
@@ -157,5 +159,5 @@ fn open_records(results: &Path) -> Result<std::fs::File, SlurmError> {
 pub(super) fn read_prep(path: &Path) -> Result<PrepPayload, SlurmError> {
     let text = std::fs::read_to_string(path).map_err(|e| io(e, path))?;
     serde_json::from_str::<PrepPayload>(&text)
-        .map_err(|e| format!("{}: {e}", path.display()).into())
+        .map_err(|e| SlurmError::Refused(format!("{}: {e}", path.display())))
 }

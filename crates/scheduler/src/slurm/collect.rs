@@ -74,7 +74,9 @@ pub fn collect(
     let ledger = Ledger::load(store, sweep_id, version)?;
     let mut c = Collected::default();
     let Some(uid) = store.sweep_uid(sweep_id, true)? else {
-        return Err(format!("sweep {sweep_id} has no uid in the store").into());
+        return Err(SlurmError::Refused(format!(
+            "sweep {sweep_id} has no uid in the store"
+        )));
     };
     if let Err(why) = run_dir_is(run_dir, &uid) {
         c.problems.push(why.to_string());

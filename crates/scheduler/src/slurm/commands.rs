@@ -52,14 +52,13 @@ impl SubmitOptions {
         values.extend(self.sbatch_args.iter().map(|a| ("--sbatch-arg", a.clone())));
         for (flag, v) in values {
             if v.chars().any(|c| matches!(c, '\n' | '\r' | '\0')) {
-                return Err(format!(
+                return Err(SlurmError::Refused(format!(
                     "{flag} {v:?} contains a newline, carriage return or NUL; nothing was written"
-                )
-                .into());
+                )));
             }
         }
         use crate::slurm_syntax::{account, partition, sbatch_arg, time_limit};
-        type Check = fn(&str) -> Result<(), String>;
+        type Check = fn(&str) -> Result<(), crate::slurm_syntax::SyntaxError>;
         let checks: [(&str, Option<&String>, Check); 3] = [
             ("--partition", self.partition.as_ref(), partition),
             ("--account", self.account.as_ref(), account),
@@ -67,11 +66,15 @@ impl SubmitOptions {
         ];
         for (flag, value, check) in checks {
             if let Some(v) = value {
-                check(v).map_err(|e| format!("{flag}: {e}; nothing was written"))?;
+                check(v).map_err(|e| {
+                    SlurmError::Refused(format!("{flag}: {e}; nothing was written"))
+                })?;
             }
         }
         for a in &self.sbatch_args {
-            sbatch_arg(a).map_err(|e| format!("--sbatch-arg: {e}; nothing was written"))?;
+            sbatch_arg(a).map_err(|e| {
+                SlurmError::Refused(format!("--sbatch-arg: {e}; nothing was written"))
+            })?;
         }
         Ok(())
     }

@@ -53,7 +53,7 @@ mod others;
 mod points;
 mod report;
 pub use cellsweep_stats::Axes;
-pub use others::{proportional_side, OtherAxis};
+pub use others::{proportional_side, OtherAxis, RowAxesError};
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -95,6 +95,11 @@ pub(super) fn lattices_follow_r0(
     r0_changes && !lattice_given
 }
 
+/// An exported row whose parameters do not read as a point of the sweep.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct RowAxesError(pub String);
+
 impl Sweep {
     /// Every combination of the other axes' values, the first axis outermost; one empty
     /// combination for a sweep without other axes.
@@ -172,12 +177,12 @@ impl Sweep {
 
     /// The axes of an exported row's point: its paper axes, and the other axes' values out of
     /// its parameters (those it does not list are the defaults', as `export` leaves them out).
-    pub fn axes_of_row(&self, row: &ExportRow) -> Result<Axes, String> {
+    pub fn axes_of_row(&self, row: &ExportRow) -> Result<Axes, RowAxesError> {
         let mut axes = Axes::new(row.alpha, row.beta, row.L, row.sigma);
         if self.grid.others.is_empty() {
             return Ok(axes);
         }
-        let bad = |e: String| format!("{axes}: parameters {}: {e}", row.params);
+        let bad = |e: String| RowAxesError(format!("{axes}: parameters {}: {e}", row.params));
         let listed: serde_json::Value =
             serde_json::from_str(&row.params).map_err(|e| bad(e.to_string()))?;
         let mut p = serde_json::to_value(Params::default()).map_err(|e| bad(e.to_string()))?;

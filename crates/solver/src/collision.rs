@@ -276,8 +276,12 @@ impl Run<'_> {
         }
         let run_on = monitor.run_on().max(0.0);
         let mut done = 0;
+        // Where a run that films nothing stops (the step its record counts): a movie runs on
+        // past the decision only to show it, and a replay with a movie compares this.
+        let mut stop = None;
         for s in 0..steps.collide {
             if let Some(d) = decision {
+                stop.get_or_insert(done);
                 // (run_on = 0, every sweep: stop at once, as before.)
                 if protocol.stop_early && (run_on == 0.0 || s as f64 * params.dt >= d.time + run_on)
                 {
@@ -368,7 +372,10 @@ impl Run<'_> {
             breakup_reason: broke,
             sheddings: watch[0].sheddings + watch[1].sheddings,
             at_decision,
-            done,
+            done: match protocol.stop_early {
+                true => stop.unwrap_or(done),
+                false => done,
+            },
             patch: patches.map(|pt| pt.stats()),
             track,
         })

@@ -25,6 +25,7 @@ impl AskedPlane {
     /// "β against R0, one diagram per xt and sigma".
     pub fn title(&self) -> String {
         let by = match &self.plane.by {
+            Some(by) if by.is_empty() => ", every point in one diagram".to_string(),
             Some(by) => format!(", one diagram per {}", by.join(" and ")),
             None => String::new(),
         };
@@ -91,6 +92,9 @@ fn draw(collection: &Collection<'_>, a: &AskedPlane) -> Result<Vec<(String, Diag
         // "shown: xt = 49.95, sigma = 5" -> "xt = 49.95, sigma = 5"
         if let Some(t) = d.title.strip_prefix("shown: ") {
             d.title = t.to_string();
+        }
+        if d.title.is_empty() || d.title == "shown:" {
+            d.title = "every point".to_string();
         }
     }
     Ok(drawn)

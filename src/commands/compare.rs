@@ -23,13 +23,8 @@ fn load(db: &Path, name: &str, version: Option<&str>) -> anyhow::Result<Side> {
     let store = Store::open_read(db)?;
     let id = store.sweep_id(name)?;
     let version = version.unwrap_or(SOLVER_VERSION);
-    let sweep: cellsweep_scheduler::Sweep =
-        serde_json::from_str(&store.sweep_spec(id)?).map_err(|e| {
-            anyhow::anyhow!(
-                "{}: sweep {name:?}: malformed definition: {e}",
-                db.display()
-            )
-        })?;
+    let sweep = cellsweep_scheduler::Sweep::stored(&store, id)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", db.display()))?;
     let replicates = store.replicates(id, version, &|c| sweep.others_of_config(c))?;
     if replicates.is_empty() {
         let versions = store.result_versions(id)?;

@@ -133,8 +133,8 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
         let store = Store::open_read(db)?;
         let name = store.choose_sweep(args.sweep.as_deref())?;
         let id = store.sweep_id(&name)?;
-        let sweep: cellsweep_scheduler::Sweep = serde_json::from_str(&store.sweep_spec(id)?)
-            .with_context(|| format!("{}: sweep {name:?}: malformed definition", db.display()))?;
+        let sweep = cellsweep_scheduler::Sweep::stored(&store, id)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", db.display()))?;
         let mut axes: Vec<String> = KEYS.iter().map(|k| k.to_string()).collect();
         axes.extend(sweep.grid.others.iter().map(|a| a.name.clone()));
         (name, axes)

@@ -41,12 +41,8 @@ pub fn rows_of_store(db: &Path, sweep: Option<&str>) -> Result<(Sweep, Vec<Expor
     let store = Store::open_read(db)?;
     let name = store.choose_sweep(sweep)?;
     let id = store.sweep_id(&name)?;
-    let sweep: Sweep = serde_json::from_str(&store.sweep_spec(id)?).map_err(|e| {
-        LoadError::Invalid(format!(
-            "{}: sweep {name:?}: malformed definition: {e}",
-            db.display()
-        ))
-    })?;
+    let sweep = Sweep::stored(&store, id)
+        .map_err(|e| LoadError::Invalid(format!("{}: {e}", db.display())))?;
     let defaults = serde_json::to_value(Params::default())
         .map_err(|e| LoadError::Invalid(format!("the default parameters: {e}")))?;
     // The store's finished replicates read exactly as an export of them would be.

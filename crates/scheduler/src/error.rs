@@ -106,6 +106,8 @@ pub enum RunError {
     Config(#[from] serde_json::Error),
     #[error("stored prep is malformed: {0}")]
     Prep(#[from] PayloadError),
+    #[error(transparent)]
+    Definition(#[from] crate::sweep::StoredSweepError),
 }
 
 /// A sweep file whose `[refine]` rule cannot hold the beta values earlier rounds added to the

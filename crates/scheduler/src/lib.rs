@@ -37,4 +37,4 @@ pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_in, plan_targets};
 pub use pool::WorkerCommand;
-pub use sweep::{RunSettings, Sweep};
+pub use sweep::{RunSettings, StoredSweepError, Sweep};

@@ -90,8 +90,7 @@ impl Ledger {
 
     /// The ledger of a registered sweep, its definition read back from the store.
     pub fn load(store: &Store, sweep_id: i64, version: &str) -> Result<Ledger, RunError> {
-        let spec = store.sweep_spec(sweep_id)?;
-        let sweep: Sweep = serde_json::from_str(&spec)?;
+        let sweep = Sweep::stored(store, sweep_id)?;
         Ok(Ledger {
             sweep_id,
             version: version.to_string(),

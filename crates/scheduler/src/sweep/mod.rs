@@ -55,6 +55,19 @@ mod report;
 pub use cellsweep_stats::Axes;
 pub use others::{proportional_side, OtherAxis, RowAxesError};
 
+/// A stored sweep definition that cannot be read back.
+#[derive(Debug, thiserror::Error)]
+pub enum StoredSweepError {
+    #[error(transparent)]
+    Store(#[from] cellsweep_store::StoreError),
+    #[error("sweep {name:?}: malformed definition: {source}")]
+    Malformed {
+        name: String,
+        #[source]
+        source: serde_json::Error,
+    },
+}
+
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSettings {
@@ -467,6 +480,19 @@ impl Sweep {
     pub fn initial_replicates(&self) -> u32 {
         self.adaptive
             .map_or(self.replicates, |a| a.min_replicates.min(self.replicates))
+    }
+
+    /// The definition of sweep `id` as `store` holds it (its canonical JSON, parsed): the one
+    /// reading of a stored definition, for the ledger, `load`, `compare` and `reset`.
+    pub fn stored(store: &cellsweep_store::Store, id: i64) -> Result<Sweep, StoredSweepError> {
+        let spec = store.sweep_spec(id)?;
+        serde_json::from_str(&spec).map_err(|source| StoredSweepError::Malformed {
+            name: serde_json::from_str::<serde_json::Value>(&spec)
+                .ok()
+                .and_then(|v| v.get("name")?.as_str().map(String::from))
+                .unwrap_or_else(|| format!("#{id}")),
+            source,
+        })
     }
 
     /// Canonical JSON of the sweep's definition (everything but the run settings).

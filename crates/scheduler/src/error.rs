@@ -107,7 +107,7 @@ pub enum RunError {
     #[error("stored prep is malformed: {0}")]
     Prep(#[from] PayloadError),
     #[error(transparent)]
-    Definition(#[from] crate::sweep::StoredSweepError),
+    Definition(#[from] StoredSweepError),
 }
 
 /// A sweep file whose `[refine]` rule cannot hold the beta values earlier rounds added to the
@@ -169,4 +169,17 @@ pub enum QueueError {
     TimedOut(Duration),
     #[error("squeue's answer could not be read: line {0:?}")]
     Unparsable(String),
+}
+
+/// A stored sweep definition that cannot be read back.
+#[derive(Debug, thiserror::Error)]
+pub enum StoredSweepError {
+    #[error(transparent)]
+    Store(#[from] cellsweep_store::StoreError),
+    #[error("sweep {name:?}: malformed definition: {source}")]
+    Malformed {
+        name: String,
+        #[source]
+        source: serde_json::Error,
+    },
 }

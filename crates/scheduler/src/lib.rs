@@ -31,10 +31,11 @@ pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
 pub use error::{
-    AxisError, CallError, PayloadError, RetuneError, RunError, SlurmError, SweepError, ValueError,
+    AxisError, CallError, PayloadError, RetuneError, RunError, SlurmError, StoredSweepError,
+    SweepError, ValueError,
 };
 pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};
 pub use plan::{plan, plan_in, plan_targets};
 pub use pool::WorkerCommand;
-pub use sweep::{RunSettings, StoredSweepError, Sweep};
+pub use sweep::{RunSettings, Sweep};

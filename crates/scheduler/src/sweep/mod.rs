@@ -44,7 +44,7 @@ use cellsweep_solver::{ClassifierSettings, Params, Protocol};
 use cellsweep_stats::{AdaptiveRule, RefineRule};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{SweepError, ValueError};
+use crate::error::{StoredSweepError, SweepError, ValueError};
 use crate::sweep_file::{self, AdaptiveFile, ProtocolFile, RunFile, Whole};
 
 mod differences;
@@ -54,19 +54,6 @@ mod points;
 mod report;
 pub use cellsweep_stats::Axes;
 pub use others::{proportional_side, OtherAxis, RowAxesError};
-
-/// A stored sweep definition that cannot be read back.
-#[derive(Debug, thiserror::Error)]
-pub enum StoredSweepError {
-    #[error(transparent)]
-    Store(#[from] cellsweep_store::StoreError),
-    #[error("sweep {name:?}: malformed definition: {source}")]
-    Malformed {
-        name: String,
-        #[source]
-        source: serde_json::Error,
-    },
-}
 
 /// Fault handling of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -3,11 +3,9 @@
 
 mod common;
 
-use std::path::Path;
-
 use std::process::{Command, Output};
 
-use common::{result_rows, write_sweep, ADAPTIVE};
+use common::{query, result_rows, write_sweep, ADAPTIVE};
 
 fn workdir(name: &str) -> common::Scratch {
     common::workdir("adaptive", name)
@@ -17,13 +15,6 @@ fn cellsweep(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_cellsweep"))
         .args(args)
         .output()
-        .unwrap()
-}
-
-fn count(db: &Path, sql: &str) -> i64 {
-    rusqlite::Connection::open(db)
-        .unwrap()
-        .query_row(sql, [], |r| r.get(0))
         .unwrap()
 }
 
@@ -48,13 +39,13 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
     );
     assert!(text.contains("adaptive"), "{text}");
     // Three rounds of 4 per point, then settled: 12 of the 16-replicate budget.
-    assert_eq!(count(&db, "SELECT COUNT(*) FROM jobs"), 48);
+    assert_eq!(query(&db, "SELECT COUNT(*) FROM jobs"), 48);
     assert_eq!(
-        count(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'done'"),
         48
     );
-    assert_eq!(count(&db, "SELECT COUNT(*) FROM results"), 48);
-    assert_eq!(count(&db, "SELECT MAX(replicate) FROM jobs"), 11);
+    assert_eq!(query(&db, "SELECT COUNT(*) FROM results"), 48);
+    assert_eq!(query(&db, "SELECT MAX(replicate) FROM jobs"), 11);
 
     // The table says so, per point.
     let t = cellsweep(&["table", "--db", db.to_str().unwrap(), "--format", "json"]);
@@ -109,7 +100,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
             r[col("replicate")],
             r[col("alpha")]
         );
-        assert_eq!(count(&db, &sql), 1, "{r:?}");
+        assert_eq!(query(&db, &sql), 1, "{r:?}");
         assert_eq!(r[col("outcome")], "undetermined");
         assert_eq!(r[col("prep_hash")].len(), 16);
         assert_eq!(r[col("params")], "\"{\"\"R0\"\":24.0}\"");
@@ -207,7 +198,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
     let before = result_rows(&db, "adapt");
     let again = cellsweep(&["run", sweep.to_str().unwrap(), "--db", db.to_str().unwrap()]);
     assert!(again.status.success());
-    assert_eq!(count(&db, "SELECT COUNT(*) FROM jobs"), 48);
+    assert_eq!(query(&db, "SELECT COUNT(*) FROM jobs"), 48);
     assert_eq!(result_rows(&db, "adapt"), before);
 
     // The fixed sweep of the same seed and grid, 12 replicates: the same rows, pair by pair.
@@ -300,14 +291,14 @@ fn later_rounds_reach_preps_a_worker_has_dropped_from_its_cache() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(
-        count(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'failed'"),
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE state = 'failed'"),
         0
     );
     assert_eq!(
-        count(&db, "SELECT COUNT(*) FROM jobs WHERE attempts > 0"),
+        query(&db, "SELECT COUNT(*) FROM jobs WHERE attempts > 0"),
         0
     );
-    assert_eq!(count(&db, "SELECT COUNT(*) FROM results"), 6 * 12);
+    assert_eq!(query(&db, "SELECT COUNT(*) FROM results"), 6 * 12);
 }
 
 /// The paper's speed figure from an export: several preps per point give a mean free speed

@@ -3,10 +3,11 @@
 use std::path::Path;
 use std::time::Duration;
 
-use anyhow::{bail, Context};
-use cellsweep_scheduler::{
-    plan, plan_in, run_sweep, Ending, Ledger, RunOptions, StoreLock, Sweep, WorkerCommand,
+use anyhow::Context;
+use cellsweep_scheduler::engine::{
+    drive, DriveOptions, Finish, Local, Session, SessionOptions, Target,
 };
+use cellsweep_scheduler::{RunOptions, Sweep, WorkerCommand};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_stats::Standing;
 use cellsweep_store::{NewSweep, Registration, Store};
@@ -27,62 +28,53 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         super::dry_run::run(&sweep, &args.sweep, &args.db.db, workers)?;
         return Ok(0);
     }
-    // One writer per store: a second run (or submit, collect, import) is refused here.
-    let _lock = StoreLock::acquire(&args.db.db)?;
-    let mut store = Store::open_or_create(&args.db.db)?;
-    store.check_integrity()?;
-    if !args.force {
-        refuse_while_on_slurm(&store, &sweep.name)?;
-    }
-    let source = args.sweep.display().to_string();
-    let new = if args.replace {
-        plan(&sweep, &source)
-    } else {
-        plan_in(&sweep, &source, &store)?
-    };
-    let reg = store.register(&new, args.replace)?;
-    announce(&sweep, &new, &reg, &args.db.db);
-
-    if args.retry_failed {
-        let n = store.retry_failed(reg.sweep_id, SOLVER_VERSION)?;
+    let mut session = Session::open(
+        &args.db.db,
+        &sweep,
+        &args.sweep.display().to_string(),
+        SOLVER_VERSION,
+        SessionOptions {
+            replace: args.replace,
+            retry_failed: args.retry_failed,
+            refuse_if_elsewhere: !args.force,
+        },
+    )?;
+    announce(&sweep, &session.planned, &session.registration, &args.db.db);
+    if let Some(n) = session.retried {
         println!("retrying {n} failed jobs and preps");
     }
-    // A finished sweep (an adaptive one with no round to add): say so and run nothing.
-    if !reg.created && reg.grown_from.is_none() {
-        if let Some(failed) = finished_already(&mut store, reg.sweep_id, &sweep.name)? {
-            summarize(&args, &store, reg.sweep_id, &sweep, false)?;
-            return Ok(failed_exit(failed, &sweep.name, "run"));
-        }
-    }
-    let opts = run_options(&args, &sweep, workers)?;
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .context("cannot start the async runtime")?;
+    let target = Target {
+        sweep_id: session.registration.sweep_id,
+        name: &sweep.name,
+        version: SOLVER_VERSION,
+    };
     let mut bar = SweepBar::new();
+    let mut local = Local::new(run_options(&args, &sweep, workers)?, &mut bar);
     crate::on_broken_pipe(crate::OnBrokenPipe::Fail);
-    let report = runtime.block_on(run_sweep(
-        &mut store,
-        reg.sweep_id,
-        SOLVER_VERSION,
-        opts,
-        &mut bar,
-    ));
+    let finish = drive(
+        &mut local,
+        &mut session.store,
+        target,
+        DriveOptions {
+            watch: false,
+            poll: 0.0,
+            give_up_after: 0.0,
+        },
+        &mut |_| {},
+    );
     bar.finish();
     // The jobs are settled: from here a closed pipe may end the process quietly.
     crate::on_broken_pipe(crate::OnBrokenPipe::Die);
-    let report = report.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
-
-    summarize(
-        &args,
-        &store,
-        reg.sweep_id,
-        &sweep,
-        report.ending == Ending::Interrupted,
-    )?;
-    Ok(match report.ending {
-        Ending::Interrupted => 130,
-        Ending::Finished => failed_exit(report.progress.failed, &sweep.name, "run"),
+    let finish = finish.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
+    if let Finish::Done { ran: false, .. } = finish {
+        say_nothing_to_run(&session.store, target)?;
+    }
+    let interrupted = finish == Finish::Interrupted;
+    summarize(&args, &session.store, target.sweep_id, &sweep, interrupted)?;
+    Ok(match finish {
+        Finish::Interrupted => 130,
+        Finish::Done { failed, .. } => failed_exit(failed, &sweep.name, "run"),
+        Finish::Sent => 0,
     })
 }
 
@@ -153,39 +145,14 @@ fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
     }
 }
 
-/// A local run of a sweep whose Slurm arrays are still queued would compute their jobs a second
-/// time: refused (as where squeue cannot tell), unless `--force`.
-fn refuse_while_on_slurm(store: &Store, name: &str) -> anyhow::Result<()> {
-    let Ok(id) = store.sweep_id(name) else {
-        return Ok(());
-    };
-    let arrays = store.open_arrays_of(id, SOLVER_VERSION)?;
-    if arrays.is_empty() {
-        return Ok(());
-    }
-    let labels: Vec<String> = arrays.iter().map(|a| a.label()).collect();
-    match cellsweep_scheduler::slurm::queue_of(name, &arrays) {
-        Ok(states) if states.is_empty() => Ok(()),
-        Ok(states) => {
-            let n: usize = states.iter().map(|(_, n)| n).sum();
-            bail!("{n} array tasks of {name:?} are still queued or running on Slurm (arrays {}): a local run would compute their jobs again; wait for them (cellsweep submit --watch, or collect), scancel them, or pass --force", labels.join(", "))
-        }
-        Err(e) => bail!("{name:?} has Slurm arrays not yet seen to end ({}) and {e}, so whether they still run is unknown; run where squeue answers, or pass --force", labels.join(", ")),
-    }
-}
-
-/// For a sweep that is already registered: the number of failed jobs if it has nothing left
-/// to run (after planning any adaptive round it is owed), else None.
-fn finished_already(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Result<Option<u64>> {
-    Ledger::load(store, sweep_id, SOLVER_VERSION)?.plan_rounds(store)?;
-    let st = store
+/// A sweep with nothing left to run: how far it is, and the way to its failed jobs.
+fn say_nothing_to_run(store: &Store, target: Target<'_>) -> anyhow::Result<()> {
+    let Some(s) = store
         .status()?
         .into_iter()
-        .find(|s| s.sweep == name && s.solver_version == SOLVER_VERSION);
-    let Some(s) =
-        st.filter(|s| s.jobs.pending + s.jobs.running == 0 && s.preps_done == s.preps_total)
+        .find(|s| s.sweep == target.name && s.solver_version == target.version)
     else {
-        return Ok(None);
+        return Ok(());
     };
     let failed = if s.jobs.failed > 0 {
         format!(
@@ -200,7 +167,7 @@ fn finished_already(store: &mut Store, sweep_id: i64, name: &str) -> anyhow::Res
         s.jobs.done,
         s.jobs.total()
     );
-    Ok(Some(s.jobs.failed as u64))
+    Ok(())
 }
 
 /// The local engine's options: the flags, else the sweep file's `[run]`.

@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use cellsweep_scheduler::engine;
 use cellsweep_scheduler::ledger::ColumnStanding;
 use cellsweep_scheduler::slurm::shell_quote;
 use cellsweep_scheduler::{Ledger, RunError};
@@ -117,12 +118,8 @@ fn sweep_view(
     let failures = store.failures(id, &status.solver_version)?;
     let retry = (!failures.is_empty()).then(|| retry_command(store, id, path));
     let arrays = store.arrays_of(id, &status.solver_version)?;
-    let queue = match arrays.is_empty() {
-        true => Ok(Vec::new()),
-        false => {
-            cellsweep_scheduler::slurm::queue_of(&status.sweep, &arrays).map_err(|e| e.to_string())
-        }
-    };
+    let queue = engine::queue_states(store, id, &status.sweep, &status.solver_version)
+        .map_err(|e| e.to_string());
     let open = standings
         .as_ref()
         .and_then(|s| s.get("open"))

@@ -53,7 +53,7 @@ pub enum SessionError {
     ElsewhereUnknown {
         name: String,
         arrays: String,
-        source: super::EngineError,
+        source: Box<super::EngineError>,
     },
 }
 
@@ -114,7 +114,7 @@ pub fn queued_elsewhere(store: &Store, name: &str, version: &str) -> Result<(), 
         Err(source) => Err(SessionError::ElsewhereUnknown {
             name: name.to_string(),
             arrays: labels.join(", "),
-            source,
+            source: Box::new(source),
         }),
     }
 }

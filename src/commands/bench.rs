@@ -1,73 +1,12 @@
 //! `cellsweep bench`: speed of the solver on this machine, on one core.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
-use cellsweep_solver::cell::step_pair;
-use cellsweep_solver::prep::{initial_circle, kick};
-use cellsweep_solver::{
-    run_trajectory, Cell, Config, Fibers, Lattice, Monitor, Params, Real, Seeds, Stage,
-};
+use cellsweep_solver::timing;
+use cellsweep_solver::{Config, Params, Seeds};
 use serde_json::{json, Value};
 
 use crate::cli::BenchArgs;
-
-/// Wall time of each stage of a trajectory.
-#[derive(Default)]
-struct StageClock {
-    current: Option<(Stage, Instant)>,
-    seconds: Vec<(Stage, f64)>,
-}
-
-impl StageClock {
-    fn close(&mut self) {
-        if let Some((stage, t)) = self.current.take() {
-            self.seconds.push((stage, t.elapsed().as_secs_f64()));
-        }
-    }
-    fn get(&self, s: Stage) -> f64 {
-        self.seconds.iter().filter(|x| x.0 == s).map(|x| x.1).sum()
-    }
-}
-
-impl Monitor for StageClock {
-    fn stage(&mut self, stage: Stage, _total: u64) {
-        self.close();
-        self.current = Some((stage, Instant::now()));
-    }
-}
-
-/// The yardstick's start on the pair lattice: two circles, fronts kicked, cell 2 mirrored.
-fn pair_start(params: &Params) -> (Lattice, Fibers, Cell, Cell) {
-    let lat = Lattice::new(400, 200);
-    let fibers = Fibers::new(params, 200);
-    let circle = |cx: f64| -> Vec<f64> {
-        let mut phi = lat.zeros();
-        for j in 0..200 {
-            for i in 0..400 {
-                let r = ((i as f64 - cx).powi(2) + (j as f64 - 99.5).powi(2)).sqrt();
-                phi[lat.idx(i, j)] = 0.5 + 0.5 * ((params.R0 - r) / (2.0 * params.d)).tanh();
-            }
-        }
-        phi
-    };
-    let (phi1, phi2) = (circle(99.5), circle(299.5));
-    let kicked = |phi: &[f64], front: &dyn Fn(usize) -> bool| -> Vec<f64> {
-        (0..phi.len())
-            .map(|k| {
-                if phi[k] > 0.5 && front(k % 400) {
-                    1.0
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    };
-    let (p1, p2) = (kicked(&phi1, &|i| i >= 100), kicked(&phi2, &|i| i <= 299));
-    let a = Cell::new(&lat, &fibers, phi1, p1);
-    let b = Cell::new(&lat, &fibers, phi2, p2);
-    (lat, fibers, a, b)
-}
 
 fn yardstick(python: &str) -> Result<Value, String> {
     let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/numpy_yardstick.py");
@@ -84,39 +23,6 @@ fn yardstick(python: &str) -> Result<Value, String> {
         return Err(err.lines().last().unwrap_or("failed").to_string());
     }
     serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())
-}
-
-/// Steps per second of `step`, from the fastest of five batches of `batch` steps: on a shared
-/// VM the other batches mostly measure the neighbours.
-fn best_rate(batch: u32, mut step: impl FnMut()) -> f64 {
-    (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            for _ in 0..batch {
-                step();
-            }
-            batch as f64 / t.elapsed().as_secs_f64()
-        })
-        .fold(0.0, f64::max)
-}
-
-/// Noise-free pair steps per second on the whole lattice, one thread, in `T`; with
-/// `fibers_only`, P advanced only on the fiber rows, as the collision runs it.
-fn pair_rate<T: Real>(
-    mut a: Cell<T>,
-    mut b: Cell<T>,
-    lat: &Lattice,
-    fibers: &Fibers,
-    params: &Params,
-    fibers_only: bool,
-) -> f64 {
-    if fibers_only {
-        a.polarity_on_fibers_only(lat, fibers);
-        b.polarity_on_fibers_only(lat, fibers);
-    }
-    best_rate(200, || {
-        step_pair(&mut a, &mut b, lat, fibers, params, [[0.0; 2]; 2], false)
-    })
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
@@ -142,61 +48,24 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The step rates of the kernel (single cell, pair in f64 as SPEC and as run, pair in f32),
-/// and the integrals of the pair after ten steps that the yardstick must reproduce.
+/// The kernel's step rates as the report's keys, and the integrals the yardstick must
+/// reproduce.
 fn kernel_rates(params: &Params) -> (Value, Value) {
-    // Single-cell step, 200 x 200, motile with noise.
-    let lat = Lattice::new(200, 200);
-    let fibers = Fibers::new(params, 200);
-    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
-    kick(&lat, &mut cell);
-    for _ in 0..200 {
-        cell.step(&lat, &fibers, params, [0.05, -0.03], true, false);
-    }
-    let single = best_rate(600, || {
-        cell.step(&lat, &fibers, params, [0.05, -0.03], true, false)
-    });
-
-    // Two-cell step, 400 x 200, one thread.
-    let (plat, pfib, mut a, mut b) = pair_start(params);
-    let mut noise_free = params.clone();
-    noise_free.v0 = 0.0;
-    for _ in 0..10 {
-        step_pair(
-            &mut a,
-            &mut b,
-            &plat,
-            &pfib,
-            &noise_free,
-            [[0.0; 2]; 2],
-            false,
-        );
-    }
+    let r = timing::kernel_rates(params);
     let check = json!({
-        "sum_phi_1": a.phi.iter().sum::<f64>(),
-        "area_1": a.sums.area,
-        "area_2": b.sums.area,
-        "sum_p_1": a.p.iter().sum::<f64>(),
+        "sum_phi_1": r.check.sum_phi_1,
+        "area_1": r.check.area_1,
+        "area_2": r.check.area_2,
+        "sum_p_1": r.check.sum_p_1,
     });
-    // The same start in f32 (the opt-in precision of the collision stage).
-    let (a32, b32) = (
-        a.convert::<f32>(&plat, &pfib),
-        b.convert::<f32>(&plat, &pfib),
-    );
-    // SPEC literally (P on every row, as the yardstick does), then as the collision runs it
-    // (P only on the fiber rows, where it acts: the same phi).
-    let pair_literal = pair_rate(a.clone(), b.clone(), &plat, &pfib, &noise_free, false);
-    let pair = pair_rate(a, b, &plat, &pfib, &noise_free, true);
-    let pair_f32 = pair_rate(a32, b32, &plat, &pfib, &noise_free, true);
-
     let report = json!({
-        "single_steps_per_s": single,
-        "single_site_updates_per_s": single * 40_000.0,
-        "pair_steps_per_s": pair,
-        "pair_site_updates_per_s": pair * 2.0 * 80_000.0,
-        "pair_step_s": 1.0 / pair,
-        "pair_f32_steps_per_s": pair_f32,
-        "pair_literal_steps_per_s": pair_literal,
+        "single_steps_per_s": r.single,
+        "single_site_updates_per_s": r.single * 40_000.0,
+        "pair_steps_per_s": r.pair,
+        "pair_site_updates_per_s": r.pair * 2.0 * 80_000.0,
+        "pair_step_s": 1.0 / r.pair,
+        "pair_f32_steps_per_s": r.pair_f32,
+        "pair_literal_steps_per_s": r.pair_literal,
         "threads": 1,
     });
     (report, check)
@@ -237,16 +106,9 @@ fn add_trajectory(report: &mut Value, args: &BenchArgs, params: &Params) -> anyh
         ..Config::default()
     };
     args.numerics.apply(&mut config.protocol);
-    let mut clock = StageClock::default();
-    let t = Instant::now();
-    let (result, _, _) = run_trajectory(&config, Seeds::from_run_seed(1), &mut clock, false)?;
-    let total = t.elapsed().as_secs_f64();
-    clock.close();
-    let (relax, free, collide) = (
-        clock.get(Stage::Relax),
-        clock.get(Stage::Free),
-        clock.get(Stage::Collide),
-    );
+    let timed = timing::time_trajectory(&config, Seeds::from_run_seed(1))?;
+    let (result, total) = (&timed.result, timed.total_s);
+    let (relax, free, collide) = (timed.relax_s, timed.free_s, timed.collide_s);
     let collision_rate = result.collision_steps as f64 / collide;
     report["trajectory"] = json!({
         "alpha": 0.1, "beta": 14.0, "L": 90, "sigma": 5.0, "seed": 1,

@@ -1,66 +1,12 @@
 //! `cellsweep run --dry-run`: what a sweep is and what it would cost, writing nothing.
 
 use std::path::Path;
-use std::time::Instant;
 
 use cellsweep_report::text::counted;
+use cellsweep_scheduler::cost::{unit_costs, CostBasis, UnitCosts};
 use cellsweep_scheduler::{plan, Sweep};
-use cellsweep_solver::prep::{initial_circle, kick};
-use cellsweep_solver::resolution::to_lattice;
-use cellsweep_solver::{Cell, Fibers, Lattice, Params, Precision, Real, SOLVER_VERSION};
-use cellsweep_store::{MeasuredCost, Store};
-
-/// Seconds per single-cell step on the first point's lattice, from a short measurement here,
-/// and the mean over the points of their lattice's sites over the first's (lattices that
-/// follow R0 differ from point to point).
-/// Seconds per single-cell step measured here: in f64 (the prep's precision) and in the
-/// collision's precision (f32 steps are faster), and the sweep's mean lattice size relative to
-/// its first point's.
-fn single_step_s(sweep: &Sweep) -> (f64, f64, f64) {
-    let points = sweep.points();
-    let params = &points[0];
-    let sites = |p| {
-        let [nx, ny] = sweep.protocol_for(p).single_lattice;
-        (nx * ny) as f64
-    };
-    let scale = points.iter().map(|p| sites(p) / sites(params)).sum::<f64>() / points.len() as f64;
-    // Measured on the lattice the solver runs: a finer one (resolution k) has k^2 the sites.
-    let (params, protocol) = &to_lattice(params, &sweep.protocol_for(params));
-    let [nx, ny] = protocol.single_lattice;
-    let lat = Lattice::new(nx, ny);
-    let fibers = Fibers::at_resolution(params, ny, protocol.resolution);
-    let mut cell = Cell::new(&lat, &fibers, initial_circle(&lat, params), lat.zeros());
-    kick(&lat, &mut cell);
-    let f64_step = best_step_s(&mut cell, &lat, &fibers, params);
-    let collision_step = match protocol.precision {
-        Precision::F64 => f64_step,
-        Precision::F32 => best_step_s(
-            &mut cell.convert::<f32>(&lat, &fibers),
-            &lat,
-            &fibers,
-            params,
-        ),
-    };
-    (f64_step, collision_step, scale)
-}
-
-/// The fastest of 4 timings of 20 steps of `cell`, per step.
-fn best_step_s<T: Real>(
-    cell: &mut Cell<T>,
-    lat: &Lattice,
-    fibers: &Fibers,
-    params: &Params,
-) -> f64 {
-    let mut best = f64::INFINITY;
-    for _ in 0..4 {
-        let t = Instant::now();
-        for _ in 0..20 {
-            cell.step(lat, fibers, params, [0.05, -0.03], true, false);
-        }
-        best = best.min(t.elapsed().as_secs_f64() / 20.0);
-    }
-    best
-}
+use cellsweep_solver::SOLVER_VERSION;
+use cellsweep_store::Store;
 
 fn hours(s: f64) -> String {
     if s < 3600.0 {
@@ -130,7 +76,12 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
         Some(s) => Some(s.measured_cost(SOLVER_VERSION)?),
         None => None,
     };
-    let (prep_s, collision_s, how) = unit_costs(sweep, measured);
+    let UnitCosts {
+        prep_s,
+        collision_s,
+        basis,
+    } = unit_costs(sweep, measured);
+    let how = basis_words(&basis);
     let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
     println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
     println!(
@@ -196,43 +147,25 @@ fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Opti
     )))
 }
 
-/// Seconds per prep and per collision, and how they were found: measured in the store where it
-/// has both, else from a single-cell step timed here (a collision at its longest).
-fn unit_costs(sweep: &Sweep, measured: Option<MeasuredCost>) -> (f64, f64, String) {
-    let first = &sweep.points()[0];
-    // Steps of the lattice the solver runs (dt / k^2 on a finer one).
-    let (params, p) = &to_lattice(first, &sweep.protocol_for(first));
-    let steps = |t: f64| (t / params.dt).round();
-    match measured {
-        Some(m) if m.prep_s.is_some() && m.collision_s.is_some() => (
-            m.prep_s.unwrap_or(0.0),
-            m.collision_s.unwrap_or(0.0),
-            format!(
-                "as measured in this store over {} and {}",
-                counted(m.preps as usize, "prep"),
-                counted(m.collisions as usize, "collision")
-            ),
+/// How the unit costs were found, in words.
+fn basis_words(basis: &CostBasis) -> String {
+    match *basis {
+        CostBasis::Measured { preps, collisions } => format!(
+            "as measured in this store over {} and {}",
+            counted(preps as usize, "prep"),
+            counted(collisions as usize, "collision")
         ),
-        _ => {
-            let (step, collision_step, scale) = single_step_s(sweep);
-            let (step, collision_step) = (step * scale, collision_step * scale);
-            let sites = |l: [usize; 2]| (l[0] * l[1]) as f64;
-            let ratio = 2.0 * sites(p.pair_lattice) / sites(p.single_lattice);
-            let precision = match p.precision {
-                Precision::F64 => String::new(),
-                Precision::F32 => {
-                    format!(", {:.2} ms in the collision's f32", collision_step * 1e3)
-                }
-            };
-            (
-                step * (steps(p.relax_time) + steps(p.free_time)),
-                collision_step * ratio * steps(p.collide_time),
-                format!(
-                    "from a single-cell step of {:.2} ms measured here (f64){precision}; a \
-                     collision at most (per-cell windows and early stopping make most far cheaper)",
-                    step * 1e3
-                ),
-            )
-        }
+        CostBasis::Timed {
+            step_s,
+            collision_step_s,
+        } => format!(
+            "from a single-cell step of {:.2} ms measured here (f64){}; a collision at most \
+             (per-cell windows and early stopping make most far cheaper)",
+            step_s * 1e3,
+            collision_step_s.map_or(String::new(), |c| format!(
+                ", {:.2} ms in the collision's f32",
+                c * 1e3
+            ))
+        ),
     }
 }

@@ -9,6 +9,7 @@
 //! [`export_file`] reads the export format and [`import`] brings an export into a store.
 
 pub mod coordinator;
+pub mod cost;
 pub mod engine;
 pub mod error;
 pub mod export_file;

@@ -36,6 +36,7 @@ pub mod protocol;
 pub mod real;
 pub mod resolution;
 pub mod seed;
+pub mod timing;
 pub mod trajectory;
 
 pub use breakup::BreakupWatch;

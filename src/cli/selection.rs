@@ -6,7 +6,7 @@ use anyhow::bail;
 use clap::Args;
 
 use cellsweep_report::Results;
-use cellsweep_stats::Counts;
+use cellsweep_stats::{Condition, Selector};
 
 /// Only the points at these axis values.
 #[derive(Debug, Args, Clone, Default)]
@@ -23,48 +23,10 @@ pub struct Selection {
     pub conditions: Vec<Condition>,
 }
 
-/// One `--where NAME=VALUE`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Condition {
-    pub name: String,
-    pub value: f64,
-}
-
+/// `--where NAME=VALUE` (`cellsweep_stats::Condition`), as clap reads it.
 pub(crate) fn parse_condition(s: &str) -> Result<Condition, String> {
-    let Some((name, value)) = s.split_once('=') else {
-        return Err(format!("{s:?} is not NAME=VALUE (e.g. R0=32)"));
-    };
-    let name = name.trim().to_string();
-    let value = match (name.as_str(), value.trim()) {
-        ("geometry", "one") => 1.0,
-        ("geometry", "two") => 2.0,
-        (_, v) => v
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("{name} = {v:?} is not a finite number"))?,
-    };
-    if name.is_empty() {
-        return Err(format!("{s:?} names no axis"));
-    }
-    Ok(Condition { name, value })
-}
-
-/// The value of axis `name` at point `c`, if the point has that axis.
-fn axis_value(c: &Counts, name: &str) -> Option<f64> {
-    match name {
-        "alpha" => Some(c.alpha),
-        "beta" => Some(c.beta),
-        "L" => Some(c.L as f64),
-        "sigma" => Some(c.sigma),
-        other => c.others.get(other),
-    }
-}
-
-/// Equal to a value typed on the command line: to 1e-9 of its size (0.0833333 typed for
-/// 1/12 does not match, 0.083333333333 does).
-fn matches(have: f64, want: f64) -> bool {
-    (have - want).abs() <= 1e-9 * want.abs().max(1.0)
+    s.parse()
+        .map_err(|e: cellsweep_stats::SelectError| e.to_string())
 }
 
 impl Selection {
@@ -91,7 +53,7 @@ impl Selection {
             if !results
                 .counts
                 .iter()
-                .any(|p| axis_value(p, &c.name).is_some())
+                .any(|p| p.axes().value(&c.name).is_some())
             {
                 let mut axes = vec!["alpha", "beta", "L", "sigma"];
                 if let Some(p) = results.counts.first() {
@@ -106,39 +68,19 @@ impl Selection {
             }
         }
         let name = results.name.clone();
+        let selector = Selector { conditions };
         let kept = results.only(|p| {
-            conditions
-                .iter()
-                .all(|c| axis_value(p, &c.name).is_some_and(|v| matches(v, c.value)))
+            let axes = p.axes();
+            selector.matches(|name| axes.value(name))
         });
         if kept.counts.is_empty() {
-            let asked: Vec<String> = conditions
+            let asked: Vec<String> = selector
+                .conditions
                 .iter()
                 .map(|c| format!("{} = {}", c.name, c.value))
                 .collect();
             bail!("no points match {} in {name}", asked.join(", "));
         }
         Ok(kept)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn conditions_parse_names_and_values() {
-        assert_eq!(
-            parse_condition("R0=32"),
-            Ok(Condition {
-                name: "R0".into(),
-                value: 32.0
-            })
-        );
-        assert_eq!(parse_condition("geometry=two").unwrap().value, 2.0);
-        assert!(parse_condition("R0").is_err());
-        assert!(parse_condition("R0=NaN").is_err());
-        assert!(parse_condition("=3").is_err());
-        assert!(parse_condition("E0=$(touch x)").is_err());
     }
 }

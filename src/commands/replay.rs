@@ -5,51 +5,25 @@ use anyhow::{bail, Context};
 use cellsweep_scheduler::replay::{replay, replay_with, PrepCache, ReplayError, Replayed};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::Silent;
-use cellsweep_stats::End;
+use cellsweep_stats::{End, Selector};
 use cellsweep_store::export::ExportRow;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 
 use super::simulate::{on_workers, write_track};
-use crate::cli::{parse_condition, Condition, ReplayArgs, VerifyArgs};
+use crate::cli::{ReplayArgs, VerifyArgs};
 use crate::frames::FrameRecorder;
 use crate::progress::StageBars;
 
-/// The value of axis `name` at row `row` of `sweep`, if the sweep has that axis.
-fn axis_value(sweep: &Sweep, row: &ExportRow, name: &str) -> anyhow::Result<Option<f64>> {
-    let axes = sweep.axes_of_row(row).map_err(anyhow::Error::msg)?;
-    Ok(match name {
-        "alpha" => Some(axes.alpha),
-        "beta" => Some(axes.beta),
-        "L" => Some(axes.L as f64),
-        "sigma" => Some(axes.sigma),
-        other => axes.others.get(other),
-    })
-}
-
-/// The conditions of `--point NAME=VALUE,...`, each naming an axis of the sweep.
-fn point_conditions(sweep: &Sweep, text: &str) -> anyhow::Result<Vec<Condition>> {
-    let mut conds = Vec::new();
-    for term in text.split(',').filter(|t| !t.trim().is_empty()) {
-        let c = parse_condition(term).map_err(|e| anyhow::anyhow!("--point {text}: {e}"))?;
-        let known = ["alpha", "beta", "L", "sigma"].contains(&c.name.as_str())
-            || sweep.grid.others.iter().any(|a| a.name == c.name);
-        if !known {
-            let others: Vec<&str> = sweep.grid.others.iter().map(|a| a.name.as_str()).collect();
-            bail!(
-                "--point {text}: {:?} is not an axis of sweep {:?} (its axes: alpha, beta, L, sigma{}{})",
-                c.name,
-                sweep.name,
-                if others.is_empty() { "" } else { ", " },
-                others.join(", ")
-            );
-        }
-        conds.push(c);
-    }
-    if conds.is_empty() {
-        bail!("--point {text:?} names no axis (write e.g. alpha=0.1,beta=46)");
-    }
-    Ok(conds)
+/// The selector of `--point NAME=VALUE,...`, each naming an axis of the sweep.
+fn point_selector(sweep: &Sweep, text: &str) -> anyhow::Result<Selector> {
+    let mut axes = vec!["alpha", "beta", "L", "sigma"];
+    axes.extend(sweep.grid.others.iter().map(|a| a.name.as_str()));
+    let selector = Selector::parse(text).and_then(|s| {
+        s.check_axes(&axes, &format!("sweep {:?}", sweep.name))
+            .map(|_| s)
+    });
+    selector.map_err(|e| anyhow::anyhow!("--point {text}: {e}"))
 }
 
 /// The row of replicate `replicate` at the one point `--point` names.
@@ -59,15 +33,11 @@ fn find_row<'a>(
     point: &str,
     replicate: u32,
 ) -> anyhow::Result<&'a ExportRow> {
-    let conds = point_conditions(sweep, point)?;
+    let selector = point_selector(sweep, point)?;
     let mut at = Vec::new();
     for r in rows {
-        let mut all = true;
-        for c in &conds {
-            let v = axis_value(sweep, r, &c.name)?;
-            all &= v.is_some_and(|v| (v - c.value).abs() <= 1e-9 * c.value.abs().max(1.0));
-        }
-        if all {
+        let axes = sweep.axes_of_row(r).map_err(anyhow::Error::msg)?;
+        if selector.matches(|name| axes.value(name)) {
             at.push(r);
         }
     }

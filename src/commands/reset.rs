@@ -4,6 +4,7 @@
 use anyhow::{bail, Context};
 use cellsweep_scheduler::StoreLock;
 use cellsweep_solver::SOLVER_VERSION;
+use cellsweep_stats::{Axes, Condition, SelectError, Selector};
 use cellsweep_store::{PointRef, Store};
 
 use crate::cli::ResetArgs;
@@ -11,82 +12,49 @@ use crate::cli::ResetArgs;
 /// The paper's axes; a sweep may have others (R0, E0, ...), which a selector may name too.
 const KEYS: [&str; 4] = ["alpha", "beta", "L", "sigma"];
 
-/// Points chosen by some of their axes: `(axis, value)` pairs, all of which must hold.
+/// A selector of points and the words that name it in errors (`--point ...`, `FILE: row 3`).
 #[derive(Debug)]
-struct Selector {
+struct Chosen {
     text: String,
-    terms: Vec<(String, f64)>,
+    selector: Selector,
 }
 
-impl Selector {
-    /// A selector over the axes `axes` of the sweep (an unknown name is refused, never ignored:
-    /// ignoring it would put back every value of that axis).
-    fn new(text: String, pairs: Vec<(&str, &str)>, axes: &[String]) -> anyhow::Result<Selector> {
-        let mut terms: Vec<(String, f64)> = Vec::new();
-        for (key, value) in pairs {
-            let key = key.trim();
-            if !axes.iter().any(|a| a == key) {
-                bail!(
-                    "{text}: {key:?} is not an axis of the sweep (its axes: {})",
-                    axes.join(", ")
-                );
-            }
-            if terms.iter().any(|(t, _)| t == key) {
-                bail!("{text}: {key} is given twice");
-            }
-            let v: f64 = match (key, value.trim()) {
-                ("geometry", "one") => 1.0,
-                ("geometry", "two") => 2.0,
-                (_, v) => v
-                    .parse()
-                    .ok()
-                    .filter(|v: &f64| v.is_finite())
-                    .with_context(|| format!("{text}: {key} = {value:?} is not a finite number"))?,
-            };
-            terms.push((key.to_string(), v));
+impl Chosen {
+    /// A selector over the axes `axes` of the sweep (an unknown name is refused, never
+    /// ignored: ignoring it would put back every value of that axis).
+    fn new(
+        text: String,
+        selector: Result<Selector, SelectError>,
+        axes: &[String],
+    ) -> anyhow::Result<Chosen> {
+        let axes: Vec<&str> = axes.iter().map(String::as_str).collect();
+        match selector.and_then(|s| s.check_axes(&axes, "the sweep").map(|_| s)) {
+            Ok(selector) => Ok(Chosen { text, selector }),
+            Err(e) => bail!("{text}: {e}"),
         }
-        if terms.is_empty() {
-            bail!("{text}: names no axis (write e.g. alpha=0.1,beta=46)");
-        }
-        Ok(Selector { text, terms })
     }
 
     fn matches(&self, p: &PointRef) -> bool {
         let names: Vec<&str> = self
-            .terms
+            .selector
+            .conditions
             .iter()
-            .map(|(k, _)| k.as_str())
+            .map(|c| c.name.as_str())
             .filter(|k| !KEYS.contains(k))
             .collect();
-        let others = cellsweep_store::point_others(&p.config, &names);
-        self.terms.iter().all(|(k, v)| {
-            let have = match k.as_str() {
-                "alpha" => p.alpha,
-                "beta" => p.beta,
-                "L" => f64::from(p.L),
-                "sigma" => p.sigma,
-                other => others.get(other).unwrap_or(f64::NAN),
-            };
-            (have - v).abs() <= 1e-9 * v.abs().max(1.0)
-        })
+        let mut axes = Axes::new(p.alpha, p.beta, p.L, p.sigma);
+        axes.others = cellsweep_store::point_others(&p.config, &names);
+        self.selector.matches(|name| axes.value(name))
     }
 }
 
 /// `--point alpha=0.1,beta=46` (any axis of the sweep).
-fn parse_point(text: &str, axes: &[String]) -> anyhow::Result<Selector> {
-    let label = format!("--point {text}");
-    let mut pairs = Vec::new();
-    for term in text.split(',').filter(|t| !t.trim().is_empty()) {
-        let Some((k, v)) = term.split_once('=') else {
-            bail!("{label}: {term:?} is not KEY=VALUE");
-        };
-        pairs.push((k, v));
-    }
-    Selector::new(label, pairs, axes)
+fn parse_point(text: &str, axes: &[String]) -> anyhow::Result<Chosen> {
+    Chosen::new(format!("--point {text}"), Selector::parse(text), axes)
 }
 
 /// `--points FILE.csv`: one selector per row; every column must name an axis of the sweep.
-fn read_points(path: &std::path::Path, axes: &[String]) -> anyhow::Result<Vec<Selector>> {
+fn read_points(path: &std::path::Path, axes: &[String]) -> anyhow::Result<Vec<Chosen>> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
     let mut reader = csv::ReaderBuilder::new()
@@ -106,13 +74,13 @@ fn read_points(path: &std::path::Path, axes: &[String]) -> anyhow::Result<Vec<Se
     let mut out = Vec::new();
     for (i, row) in reader.records().enumerate() {
         let row = row.with_context(|| format!("{file}: row {}", i + 1))?;
-        let pairs = columns
+        let conditions = columns
             .iter()
-            .map(|&(c, key)| (key, row.get(c).unwrap_or("")))
-            .collect();
-        out.push(Selector::new(
+            .map(|&(c, key)| Condition::new(key, row.get(c).unwrap_or("")))
+            .collect::<Result<Vec<_>, _>>();
+        out.push(Chosen::new(
             format!("{file}: row {}", i + 1),
-            pairs,
+            conditions.and_then(Selector::of),
             axes,
         )?);
     }
@@ -139,7 +107,7 @@ pub fn run(args: ResetArgs) -> anyhow::Result<()> {
         axes.extend(sweep.grid.others.iter().map(|a| a.name.clone()));
         (name, axes)
     };
-    let mut selectors: Vec<Selector> = args
+    let mut selectors: Vec<Chosen> = args
         .point
         .iter()
         .map(|p| parse_point(p, &axes))

@@ -112,6 +112,18 @@ impl Axes {
         }
     }
 
+    /// The value of axis `name` (alpha, beta, L, sigma, or one of the others), if the point
+    /// has it.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        match name {
+            "alpha" => Some(self.alpha),
+            "beta" => Some(self.beta),
+            "L" => Some(f64::from(self.L)),
+            "sigma" => Some(self.sigma),
+            other => self.others.get(other),
+        }
+    }
+
     /// The point's identity.
     pub fn key(&self) -> PointKey {
         (

@@ -46,6 +46,7 @@ mod model_line;
 pub mod plane;
 pub mod refine;
 mod sampling;
+pub mod select;
 pub mod shift;
 pub mod throughput;
 
@@ -63,4 +64,5 @@ pub use fit::{fit_columns, fit_line, Column, Fit, Method, NoFit, Scales};
 pub use interpolation::NoCrossing;
 pub use plane::{Plane, PlaneDiagram, PlaneError};
 pub use refine::{ColumnNeed, RefineRule};
+pub use select::{Condition, SelectError, Selector};
 pub use shift::{measure_shift, Shift};

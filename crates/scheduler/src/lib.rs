@@ -13,6 +13,8 @@ pub mod cost;
 pub mod engine;
 pub mod error;
 pub mod export_file;
+#[cfg(feature = "fault-injection")]
+pub mod fault_injection;
 pub mod grid;
 pub mod import;
 pub mod ledger;

@@ -1,13 +1,7 @@
 //! The worker side: `cellsweep worker` reads requests line by line, runs the solver, writes one
 //! response line per request, and keeps the last few preps it saw or made.
-//!
-//! Test hooks (environment variables, used by the test suite to fake faults in real processes):
-//! `CELLSWEEP_TEST_CRASH_TASK=ID` aborts the process on collision task ID while its attempt number
-//! is at most `CELLSWEEP_TEST_CRASH_ATTEMPTS` (default 1); `CELLSWEEP_TEST_HANG_TASK=ID` makes the
-//! worker hang on collision task ID (first attempt only); `CELLSWEEP_TEST_FAIL_TASK=ID:N` (a
-//! collision) or `CELLSWEEP_TEST_FAIL_PREP=ID:N` (a prep) answers that task with a failure while
-//! its attempt number is at most N: a fault that both engines record the same way, where a
-//! crash is seen only by the local one.
+//! With the `fault-injection` feature (the test suite's build only) the worker also obeys the
+//! faults of [`crate::fault_injection`].
 
 use std::collections::VecDeque;
 use std::io::{BufRead, Write};
@@ -19,41 +13,6 @@ use crate::wire::{PrepPayload, Request, Response};
 
 /// Preps kept per worker.
 pub const CACHE: usize = 4;
-
-fn env_i64(name: &str) -> Option<i64> {
-    std::env::var(name).ok()?.trim().parse().ok()
-}
-
-fn test_hooks(req: &Request) {
-    if let Request::Collide { task, attempt, .. } = req {
-        if env_i64("CELLSWEEP_TEST_CRASH_TASK") == Some(*task) {
-            let upto = env_i64("CELLSWEEP_TEST_CRASH_ATTEMPTS").unwrap_or(1);
-            if (*attempt as i64) <= upto {
-                eprintln!("test hook: crashing on task {task}, attempt {attempt}");
-                std::process::abort();
-            }
-        }
-        if env_i64("CELLSWEEP_TEST_HANG_TASK") == Some(*task) && *attempt == 1 {
-            loop {
-                std::thread::sleep(std::time::Duration::from_secs(3600));
-            }
-        }
-    }
-}
-
-/// The injected failure of `CELLSWEEP_TEST_FAIL_TASK` / `CELLSWEEP_TEST_FAIL_PREP`, if it
-/// applies to this request.
-fn injected_failure(req: &Request) -> Option<String> {
-    let (var, task, attempt) = match req {
-        Request::Prep { task, attempt, .. } => ("CELLSWEEP_TEST_FAIL_PREP", task, attempt),
-        Request::Collide { task, attempt, .. } => ("CELLSWEEP_TEST_FAIL_TASK", task, attempt),
-    };
-    let value = std::env::var(var).ok()?;
-    let (id, upto) = value.split_once(':')?;
-    let fails =
-        id.trim().parse() == Ok(*task) && upto.trim().parse().is_ok_and(|n: u32| *attempt <= n);
-    fails.then(|| format!("test hook: injected failure of task {task}, attempt {attempt}"))
-}
 
 /// The preps a worker keeps, newest last.
 pub type PrepCache = VecDeque<(i64, Prep)>;
@@ -82,14 +41,16 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> std::io::Result<()>
 
 /// The response to one request (a solver panic becomes a failure, never a crash).
 pub fn answer(req: Request, cache: &mut PrepCache) -> Response {
-    test_hooks(&req);
+    #[cfg(feature = "fault-injection")]
+    crate::fault_injection::crash_or_hang(&req);
     let (task, attempt) = (req.task(), req.attempt());
     let failed = |error: String| Response::Failed {
         task,
         attempt,
         error,
     };
-    if let Some(error) = injected_failure(&req) {
+    #[cfg(feature = "fault-injection")]
+    if let Some(error) = crate::fault_injection::failure(&req) {
         return failed(error);
     }
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(req, cache)))

@@ -3,20 +3,7 @@
 
 mod common;
 
-use std::process::{Command, Output};
-
-use common::{query, result_rows, write_sweep, ADAPTIVE};
-
-fn workdir(name: &str) -> common::Scratch {
-    common::workdir("adaptive", name)
-}
-
-fn cellsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use common::{cellsweep, query, result_rows, workdir, write_sweep, ADAPTIVE};
 
 #[test]
 fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
@@ -305,7 +292,7 @@ fn later_rounds_reach_preps_a_worker_has_dropped_from_its_cache() {
 /// with its standard error per beta, and the export names each prep's seed.
 #[test]
 fn an_export_with_several_preps_per_point_plots_mean_speeds_with_error_bars() {
-    let dir = common::workdir("speed", "export");
+    let dir = common::workdir("export");
     std::fs::write(
         dir.join("sp.toml"),
         "name = \"sp\"\nseed = 1\nreplicates = 3\npreps_per_point = 3\n[grid]\nalpha = [0.1]\n\

@@ -1,19 +1,8 @@
 //! `table`, `fit` and `plot` as a user runs them, on a counts file drawn from a known line.
 
 mod common;
+use common::{cellsweep, workdir};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn cellsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn workdir(name: &str) -> common::Scratch {
-    common::workdir("analysis", name)
-}
 
 /// A paper-like L = 90 diagram: walk-past above beta_crit = 0.6 alpha~/L~ - 12, an unstable
 /// corner at low alpha and high beta.

@@ -78,7 +78,7 @@ fn run(dir: &Path, sweep: &Path, db: &str) -> String {
 
 #[test]
 fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
-    let dir = workdir("axes", "e0");
+    let dir = workdir("e0");
     let grid = write(&dir, "e0-grid", "E0 = [1000, 3000]", "", 20.0);
     let fixed = write(&dir, "e0-fixed", "", "E0 = 1000", 20.0);
 
@@ -225,7 +225,7 @@ fn a_sweep_over_e0_runs_resumes_exports_imports_and_matches_e0_fixed() {
 /// put back points the user did not ask for).
 #[test]
 fn reset_puts_back_exactly_the_points_named_on_any_axis() {
-    let dir = workdir("axes", "reset");
+    let dir = workdir("reset");
     write(&dir, "e0", "E0 = [2000, 2400]", "", 2.0);
     let run = cellsweep_in(
         &dir,
@@ -291,7 +291,7 @@ fn reset_puts_back_exactly_the_points_named_on_any_axis() {
 /// twice is one line and a non-zero exit, with nothing written.
 #[test]
 fn diagrams_on_any_two_axes_from_the_collapse_exports() {
-    let dir = workdir("axes", "plane");
+    let dir = workdir("plane");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let data = |f: &str| root.join(f).display().to_string();
     let (r32, r48, r40) = (
@@ -396,7 +396,7 @@ fn diagrams_on_any_two_axes_from_the_collapse_exports() {
 /// such section.
 #[test]
 fn the_report_draws_the_planes_the_collapse_sweeps_ask_for() {
-    let dir = workdir("axes", "report-planes");
+    let dir = workdir("report-planes");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let data = |f: &str| root.join(f).display().to_string();
     let (collapse, r40) = (

@@ -1,13 +1,8 @@
 //! The `cellsweep` binary as a user runs it: outputs, exit codes, one-line errors.
 
-use std::process::{Command, Output};
-
-fn cellsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .args(args)
-        .output()
-        .expect("run cellsweep")
-}
+mod common;
+use common::cellsweep;
+use std::process::Output;
 
 const SMALL: &[&str] = &["--lattice", "96x96", "--set", "R0=24", "--L", "48"];
 

@@ -81,7 +81,7 @@ fn with_field(text: &str, field: &str, value: &str) -> String {
 
 #[test]
 fn an_import_is_all_or_nothing_and_names_each_problem() {
-    let dir = workdir("doors", "import");
+    let dir = workdir("import");
     let text = exported(&dir);
     let cases: Vec<(String, &str)> = vec![
         (
@@ -192,7 +192,7 @@ fn sweep_with_broken_preps(dir: &Path, name: &str) -> String {
 /// no other result; the next run computes them again with the same seeds, to the same rows.
 #[test]
 fn reset_breakups_puts_back_only_the_stored_breakups_and_the_rerun_gives_them_again() {
-    let dir = workdir("doors", "reset-breakups");
+    let dir = workdir("reset-breakups");
     let toml = sweep_with_broken_preps(&dir, "broke");
     ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
     let export = |name: &str| -> Vec<String> {
@@ -268,7 +268,7 @@ fn reset_breakups_puts_back_only_the_stored_breakups_and_the_rerun_gives_them_ag
 
 #[test]
 fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
-    let dir = workdir("doors", "by-prep");
+    let dir = workdir("by-prep");
     let toml = sweep_with_broken_preps(&dir, "byprep");
     ok(&cellsweep_in(&dir, &["run", &toml, "--db", "r.sqlite"]));
     ok(&cellsweep_in(
@@ -322,7 +322,7 @@ fn rows_decided_by_their_prep_import_as_new_into_a_fresh_store() {
 
 #[test]
 fn an_archived_sweeps_export_imports_into_a_fresh_store() {
-    let dir = workdir("doors", "archived");
+    let dir = workdir("archived");
     let text = exported(&dir);
     // A different sweep under the same name, with --replace: the old one is "door@1".
     let changed = std::fs::read_to_string(dir.join("door.toml"))
@@ -363,7 +363,7 @@ fn an_archived_sweeps_export_imports_into_a_fresh_store() {
 
 #[test]
 fn a_killed_import_leaves_no_store_at_its_path_and_a_clean_run_no_lock_file() {
-    let dir = workdir("doors", "killed-import");
+    let dir = workdir("killed-import");
     // One point whose prep takes a while (a long free motion): the import recomputes it.
     std::fs::write(
         dir.join("slow.toml"),
@@ -430,7 +430,7 @@ fn a_killed_import_leaves_no_store_at_its_path_and_a_clean_run_no_lock_file() {
 
 #[test]
 fn one_writer_per_database_file_whatever_name_reaches_it() {
-    let dir = workdir("doors", "lock");
+    let dir = workdir("lock");
     write_sweep(&dir, "lk", 2, "");
     ok(&cellsweep_in(&dir, &["run", "lk.toml", "--db", "c.sqlite"]));
     std::os::unix::fs::symlink("c.sqlite", dir.join("l.sqlite")).unwrap();
@@ -468,7 +468,7 @@ fn one_writer_per_database_file_whatever_name_reaches_it() {
 
 #[test]
 fn a_full_disk_puts_the_jobs_in_flight_back_and_names_the_store() {
-    let dir = workdir("doors", "full");
+    let dir = workdir("full");
     // Collisions long enough to be in flight when the disk fills.
     write_sweep(&dir, "full", 3, "");
     let text = std::fs::read_to_string(dir.join("full.toml"))
@@ -521,7 +521,7 @@ fn a_full_disk_puts_the_jobs_in_flight_back_and_names_the_store() {
 /// picture left under any name (issue 50, 6).
 #[test]
 fn plot_on_a_full_disk_leaves_no_empty_picture() {
-    let dir = workdir("doors", "full-plot");
+    let dir = workdir("full-plot");
     let mnt = dir.join("mnt");
     std::fs::create_dir_all(&mnt).unwrap();
     sh(&format!(
@@ -575,7 +575,7 @@ fn every_committed_row_passes_the_import_field_checks() {
 
 #[test]
 fn a_reset_point_runs_again_to_the_very_same_rows() {
-    let dir = workdir("doors", "reset");
+    let dir = workdir("reset");
     exported(&dir);
     let db = dir.join("r.sqlite");
     let before = common::result_rows(&db, "door");
@@ -668,7 +668,7 @@ fn a_reset_point_runs_again_to_the_very_same_rows() {
 /// JSON) as `table` marks them: a cell prepped in a box too narrow for it.
 #[test]
 fn status_lists_the_box_limited_points() {
-    let dir = workdir("doors", "box");
+    let dir = workdir("box");
     std::fs::write(dir.join("bx.toml"), common::BOX_SWEEP).unwrap();
     ok(&cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]));
     let table = ok(&cellsweep_in(&dir, &["table", "--db", "b.sqlite"]));

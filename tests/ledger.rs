@@ -11,7 +11,7 @@ use common::{cellsweep_in, query, try_query, workdir, write_sweep};
 
 #[test]
 fn a_second_writer_is_refused_while_readers_keep_working() {
-    let dir = workdir("ledger", "lock");
+    let dir = workdir("lock");
     // Long enough to be caught running: 30 tau0 collisions.
     let sweep = write_sweep(&dir, "held", 4, "");
     std::fs::write(
@@ -66,7 +66,7 @@ fn a_second_writer_is_refused_while_readers_keep_working() {
 
 #[test]
 fn sweep_names_that_could_escape_or_inject_are_refused_before_anything_is_written() {
-    let dir = workdir("ledger", "names");
+    let dir = workdir("names");
     for (k, name) in [
         "x$(touch${IFS}/tmp/cellsweep-PWNED)",
         "../../../x",
@@ -113,7 +113,7 @@ fn sweep_names_that_could_escape_or_inject_are_refused_before_anything_is_writte
 
 #[test]
 fn script_values_with_a_newline_are_refused_and_paths_are_quoted() {
-    let dir = workdir("ledger", "inject");
+    let dir = workdir("inject");
     write_sweep(&dir, "inject", 1, "");
     for flag in [
         "--partition=debug\ntouch /tmp/cellsweep-PWNED2",
@@ -167,7 +167,7 @@ fn script_values_with_a_newline_are_refused_and_paths_are_quoted() {
 
 #[test]
 fn a_prep_that_blows_up_is_stored_as_breakup_with_its_nan_summaries() {
-    let dir = workdir("ledger", "nan");
+    let dir = workdir("nan");
     std::fs::write(
         dir.join("nan.toml"),
         common::NAN_SWEEP.replace("{name}", "nan"),
@@ -219,7 +219,7 @@ fn a_prep_that_blows_up_is_stored_as_breakup_with_its_nan_summaries() {
 
 #[test]
 fn submit_dry_run_leaves_the_store_byte_for_byte_as_it_was() {
-    let dir = workdir("ledger", "dry");
+    let dir = workdir("dry");
     write_sweep(&dir, "dry", 1, "");
     assert!(cellsweep_in(&dir, &["run", "dry.toml", "--db", "r.sqlite"])
         .status
@@ -295,7 +295,7 @@ fn hung_run(dir: &std::path::Path, grace: &str) -> std::process::Child {
 
 #[test]
 fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
-    let dir = workdir("ledger", "grace");
+    let dir = workdir("grace");
     let mut child = hung_run(&dir, "2");
     let db = dir.join("r.sqlite");
     let asked = Instant::now();
@@ -323,11 +323,21 @@ fn ctrl_c_stops_dispatching_at_once_and_a_hung_worker_only_gets_the_grace() {
     );
 
     // A second signal does not wait for the grace.
-    let dir = workdir("ledger", "twice");
+    let dir = workdir("twice");
     let mut child = hung_run(&dir, "600");
     let asked = Instant::now();
     common::send_signal(&child, libc::SIGINT);
-    std::thread::sleep(Duration::from_millis(300));
+    // The second signal only once the run has taken the first (it says so), never after a
+    // sleep that hopes it has.
+    let mut lines = std::io::BufRead::lines(std::io::BufReader::new(child.stdout.take().unwrap()));
+    let said = lines
+        .by_ref()
+        .map_while(Result::ok)
+        .find(|l| l.contains("no new jobs"));
+    assert!(
+        said.is_some(),
+        "the run never said it took the first signal"
+    );
     common::send_signal(&child, libc::SIGTERM);
     assert_eq!(child.wait().unwrap().code(), Some(130));
     assert!(

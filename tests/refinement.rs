@@ -142,7 +142,7 @@ fn a_killed_refinement_resumes_and_the_order_of_results_changes_nothing() {
 
 #[test]
 fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_reads_back() {
-    let dir = common::workdir("refinement", "engine");
+    let dir = common::workdir("engine");
     let (toml, csv) = common::world::refined_export(&dir, "engine");
     let (toml, csv) = (toml.to_str().unwrap(), csv.to_str().unwrap());
     let import = common::cellsweep_in(&dir, &["import", csv, "--db", "r.sqlite"]);
@@ -291,7 +291,7 @@ fn a_run_goes_on_with_the_rounds_of_an_imported_refined_sweep_and_its_export_rea
 /// it to four collisions.
 #[test]
 fn the_paper_refinement_stores_the_rows_a_fixed_sweep_listing_its_added_betas_stores() {
-    let dir = common::workdir("refinement", "paper");
+    let dir = common::workdir("paper");
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let refined = root.join("data/paper/refined-L70-sigma5.csv");
     let toml = std::fs::read_to_string(root.join("sweeps/refined/L70-sigma5.toml")).unwrap();
@@ -421,7 +421,7 @@ fn export_table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
 /// export then imports.
 #[test]
 fn a_retuned_refine_rule_must_hold_the_values_earlier_rounds_added() {
-    let dir = common::workdir("refinement", "retune");
+    let dir = common::workdir("retune");
     let (toml, csv) = common::world::refined_export(&dir, "retune");
     let import = common::cellsweep_in(&dir, &["import", csv.to_str().unwrap(), "--db", "r.sqlite"]);
     assert!(

@@ -28,7 +28,7 @@ fn text(out: &std::process::Output) -> String {
 
 #[test]
 fn a_stored_replicate_replays_identically_from_a_store_and_from_its_export_with_its_movie() {
-    let dir = workdir("replay", "identical");
+    let dir = workdir("identical");
     write_sweep(&dir);
     let run = cellsweep_in(
         &dir,
@@ -118,7 +118,7 @@ fn exported(dir: &Path) -> (String, usize) {
 
 #[test]
 fn a_tampered_row_is_named_field_by_field_and_another_version_is_not_compared() {
-    let dir = workdir("replay", "tampered");
+    let dir = workdir("tampered");
     let (original, header_at) = exported(&dir);
     let header: Vec<&str> = original
         .lines()
@@ -301,7 +301,7 @@ fn a_replicate_of_the_committed_paper_data_replays_identically() {
 /// the store as it was.
 #[test]
 fn import_refuses_speeds_that_contradict_the_prep_it_recomputes() {
-    let dir = workdir("replay", "import-speeds");
+    let dir = workdir("import-speeds");
     let (original, header_at) = exported(&dir);
     let header: Vec<&str> = original
         .lines()

@@ -7,14 +7,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use common::browser::browser;
-use common::{workdir, write_sweep};
-
-fn cellsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use common::{cellsweep, workdir, write_sweep};
 
 fn ok(out: &Output) -> String {
     let text = String::from_utf8_lossy(&out.stdout).to_string();
@@ -88,7 +81,7 @@ fn load(browser: &Path, page: &Path, shot: &Path) -> (String, Vec<String>) {
 
 #[test]
 fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_browser() {
-    let dir = workdir("report", "data");
+    let dir = workdir("data");
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/paper");
     // A folder whose name is markup and a shell substitution: shown as text, never as markup.
     let odd = dir.join("d'<b>$(touch x)\"");
@@ -234,7 +227,7 @@ fn the_report_of_the_committed_data_is_self_contained_and_loads_clean_in_a_brows
 
 #[test]
 fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
-    let dir = workdir("report", "store");
+    let dir = workdir("store");
     let sweep = write_sweep(&dir, "rep", 2, "");
     let db = dir.join("r.sqlite");
     ok(&cellsweep(&[
@@ -333,7 +326,7 @@ fn the_report_of_a_store_shows_its_diagrams_costs_and_refuses_bad_sources() {
 /// and are never shown as diagrams themselves.
 #[test]
 fn the_report_compares_variants_of_the_numerics_with_the_shown_columns() {
-    let dir = workdir("report", "variants");
+    let dir = workdir("variants");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let base = root.join("data/paper/refined-L70-sigma5.csv");
     let variant = root.join("data/convergence/conv-dt-half-L70-sigma5.csv");

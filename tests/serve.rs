@@ -91,7 +91,7 @@ fn wait_for(page: &mut Page, what: &str, mut ok: impl FnMut(&mut Page) -> bool) 
 #[test]
 fn the_live_page_follows_a_running_sweep_to_its_end_in_a_real_browser() {
     let b = browser().unwrap_or_else(|e| panic!("{e}"));
-    let dir = workdir("serve", "live");
+    let dir = workdir("live");
     // A folder whose name is markup and a shell substitution: shown as text, never run.
     let odd = dir.join("d'<b>$(touch x)\"");
     std::fs::create_dir_all(&odd).unwrap();
@@ -215,7 +215,7 @@ fn the_live_page_follows_a_running_sweep_to_its_end_in_a_real_browser() {
 
 #[test]
 fn serve_refuses_bad_flags_in_one_line() {
-    let dir = workdir("serve", "flags");
+    let dir = workdir("flags");
     for (args, says) in [
         (vec!["--poll", "nan"], "--poll"),
         (vec!["--poll", "0"], "--poll"),
@@ -239,7 +239,7 @@ fn serve_refuses_bad_flags_in_one_line() {
 /// `--bind localhost` is the loopback address, as a user would write it (issue 50, 6).
 #[test]
 fn serve_binds_localhost_as_the_loopback() {
-    let dir = workdir("serve", "localhost");
+    let dir = workdir("localhost");
     // (A store not made yet: the page waits for it.)
     let db = dir.join("s.sqlite");
     let (mut child, url) = start_server_with(&dir, &db, &["--bind", "localhost"]);
@@ -253,7 +253,7 @@ fn serve_binds_localhost_as_the_loopback() {
 /// same path) is shown as the new store, not the deleted one (issue 50, 5).
 #[test]
 fn serve_follows_a_store_replaced_at_its_path() {
-    let dir = workdir("serve", "replaced");
+    let dir = workdir("replaced");
     let db = dir.join("s.sqlite");
     common::write_sweep(&dir, "first", 1, "");
     common::write_sweep(&dir, "second", 1, "");
@@ -295,7 +295,7 @@ fn serve_follows_a_store_replaced_at_its_path() {
 /// The live page counts and lists box-limited points as `status` does (issue 48, 1).
 #[test]
 fn serve_lists_the_box_limited_points() {
-    let dir = workdir("serve", "box");
+    let dir = workdir("box");
     std::fs::write(dir.join("bx.toml"), common::BOX_SWEEP).unwrap();
     let out = common::cellsweep_in(&dir, &["run", "bx.toml", "--db", "b.sqlite"]);
     assert!(

@@ -29,7 +29,7 @@ const COUNTS: &[(&str, &str)] = &[
 
 #[test]
 fn bad_counts_files_get_one_line_naming_the_problem() {
-    let dir = workdir("bad", "counts");
+    let dir = workdir("counts");
     for (k, (body, what)) in COUNTS.iter().enumerate() {
         let text = match body.strip_prefix('!') {
             Some(whole) => whole.to_string(),

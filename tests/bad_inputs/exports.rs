@@ -5,7 +5,7 @@ use crate::{all_ok, check};
 
 #[test]
 fn bad_exports_read_with_data_get_one_line_naming_the_file() {
-    let dir = workdir("bad", "data");
+    let dir = workdir("data");
     let export = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/data/paper/adaptive-L90-sigma5.csv"

@@ -154,7 +154,7 @@ const FLAGS: &[(&[&str], &str)] = &[
 
 #[test]
 fn bad_flags_and_stores_get_one_line_and_change_nothing() {
-    let dir = workdir("bad", "flags");
+    let dir = workdir("flags");
     let before = store(&dir);
     let mut failures = Vec::new();
     for (k, (args, what)) in FLAGS.iter().enumerate() {
@@ -198,7 +198,7 @@ fn bad_flags_and_stores_get_one_line_and_change_nothing() {
 
 #[test]
 fn a_store_on_read_only_media_can_be_read_and_is_refused_for_writing() {
-    let dir = workdir("bad", "readonly");
+    let dir = workdir("readonly");
     store(&dir);
     // A read-only filesystem of our own (a tmpfs remounted read-only; the tests run as root).
     let mnt = dir.join("ro");

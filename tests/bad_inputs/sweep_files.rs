@@ -337,7 +337,7 @@ const SWEEPS: &[(&str, &str, &str)] = &[
 
 #[test]
 fn bad_sweep_files_get_one_line_naming_file_and_key_and_change_nothing() {
-    let dir = workdir("bad", "sweeps");
+    let dir = workdir("sweeps");
     let before = store(&dir);
     let mut failures = Vec::new();
     for (k, (from, to, key)) in SWEEPS.iter().enumerate() {

@@ -58,15 +58,35 @@ pub fn write_sweep(dir: &Path, name: &str, replicates: u32, tail: &str) -> PathB
     path
 }
 
-/// A fresh scratch directory for one test, removed when the test is done with it (see
-/// [`Scratch`]): the tests leave nothing behind.
-pub fn workdir(prefix: &str, name: &str) -> Scratch {
-    Scratch::dir(prefix, name)
+/// A fresh scratch directory for one test, named after the test binary and `name`, removed
+/// when the test is done with it (see [`Scratch`]): the tests leave nothing behind.
+pub fn workdir(name: &str) -> Scratch {
+    Scratch::dir(env!("CARGO_CRATE_NAME"), name)
+}
+
+/// The cellsweep binary under test.
+pub fn exe() -> &'static str {
+    env!("CARGO_BIN_EXE_cellsweep")
+}
+
+/// The cellsweep binary, run with `args`.
+pub fn cellsweep(args: &[&str]) -> std::process::Output {
+    cellsweep_env(args, &[])
+}
+
+/// The cellsweep binary, run with `args` and the environment variables `envs` added.
+pub fn cellsweep_env(args: &[&str], envs: &[(&str, String)]) -> std::process::Output {
+    let mut command = std::process::Command::new(exe());
+    command.args(args);
+    for (k, v) in envs {
+        command.env(k, v);
+    }
+    command.output().unwrap()
 }
 
 /// The cellsweep binary, run in `dir`.
 pub fn cellsweep_in(dir: &Path, args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_cellsweep"))
+    std::process::Command::new(exe())
         .current_dir(dir)
         .args(args)
         .output()

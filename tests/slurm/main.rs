@@ -34,17 +34,7 @@ pub(crate) fn slurm_up() {
     });
 }
 
-pub(crate) fn cellsweep(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-pub(crate) fn workdir(name: &str) -> common::Scratch {
-    common::workdir("slurm", name)
-}
+pub(crate) use common::{cellsweep_in as cellsweep, workdir};
 
 pub(crate) fn write_sweep(dir: &Path, name: &str) -> PathBuf {
     write_sweep_of(dir, name, 2)

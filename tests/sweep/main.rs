@@ -11,16 +11,10 @@ mod failing_workers;
 mod growth;
 mod interrupts;
 
+pub(crate) use common::{cellsweep_env as cellsweep, exe, workdir};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-pub(crate) fn exe() -> &'static str {
-    env!("CARGO_BIN_EXE_cellsweep")
-}
-
-pub(crate) fn workdir(name: &str) -> common::Scratch {
-    common::workdir("sweep", name)
-}
 
 /// A sweep of the real model on small lattices: 2 alphas x 2 sigmas x `replicates`.
 pub(crate) fn write_sweep(dir: &Path, name: &str, replicates: u32, collide_time: f64) -> PathBuf {
@@ -48,15 +42,6 @@ collide_time = {collide_time}
     )
     .unwrap();
     path
-}
-
-pub(crate) fn cellsweep(args: &[&str], envs: &[(&str, String)]) -> Output {
-    let mut c = Command::new(exe());
-    c.args(args);
-    for (k, v) in envs {
-        c.env(k, v);
-    }
-    c.output().unwrap()
 }
 
 pub(crate) fn db_query(db: &Path, sql: &str) -> i64 {

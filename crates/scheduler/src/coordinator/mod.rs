@@ -27,7 +27,7 @@ mod run;
 mod signal;
 
 use run::{Busy, Run, Worker};
-use signal::interrupted;
+use signal::Interrupts;
 
 /// How to run.
 #[derive(Debug, Clone)]
@@ -184,7 +184,7 @@ async fn drive(
     opts: &RunOptions,
     reporter: &mut dyn Reporter,
 ) -> Result<Ending, RunError> {
-    let mut interrupt = Box::pin(interrupted());
+    let mut interrupts = Interrupts::listen();
     // After the first signal: no more dispatch; in-flight jobs may finish until this deadline.
     let mut grace_until: Option<tokio::time::Instant> = None;
     let mut ending = Ending::Finished;
@@ -205,7 +205,7 @@ async fn drive(
         };
         let wake = tokio::select! {
             ev = events.recv() => Wake::Event(ev),
-            _ = &mut interrupt => Wake::Signal,
+            _ = interrupts.next() => Wake::Signal,
             _ = grace => Wake::GraceOver,
         };
         match wake {
@@ -217,14 +217,15 @@ async fn drive(
                     reporter.note("second signal: stopping at once");
                     return Ok(ending);
                 }
+                grace_until = Some(tokio::time::Instant::now() + opts.grace);
+                // The listener has been on since the run began: a second signal sent once the
+                // note is out is never missed.
                 reporter.note(&format!(
                     "interrupted: no new jobs; waiting up to {} s for the {} in flight to finish \
                      (Ctrl-C again to stop at once)",
                     opts.grace.as_secs_f64(),
                     run.progress.running
                 ));
-                grace_until = Some(tokio::time::Instant::now() + opts.grace);
-                interrupt = Box::pin(interrupted());
             }
             Wake::GraceOver => {
                 reporter.note("grace period over: stopping the workers");

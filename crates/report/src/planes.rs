@@ -11,6 +11,16 @@ use crate::collection::Collection;
 use crate::figures::plane_diagrams;
 use crate::Results;
 
+/// Why an asked plane cannot be drawn.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum PlaneDrawError {
+    /// The shown diagrams do not merge into one set (e.g. different classifiers).
+    #[error(transparent)]
+    Merge(std::sync::Arc<crate::load::LoadError>),
+    #[error(transparent)]
+    Plane(#[from] cellsweep_stats::PlaneError),
+}
+
 /// One plane asked for, and what could be drawn of it.
 #[derive(Debug, Clone)]
 pub struct AskedPlane {
@@ -18,7 +28,7 @@ pub struct AskedPlane {
     /// The sweeps that asked for it.
     pub asked_by: Vec<String>,
     /// Its diagrams (each with the stem of its file name), or why it cannot be drawn.
-    pub drawn: Result<Vec<(String, Diagram)>, String>,
+    pub drawn: Result<Vec<(String, Diagram)>, PlaneDrawError>,
 }
 
 impl AskedPlane {
@@ -60,7 +70,10 @@ pub fn asked_planes(collection: &Collection<'_>) -> Vec<AskedPlane> {
 }
 
 /// The plane's diagrams from every shown diagram, those holding a point of an asking sweep.
-fn draw(collection: &Collection<'_>, a: &AskedPlane) -> Result<Vec<(String, Diagram)>, String> {
+fn draw(
+    collection: &Collection<'_>,
+    a: &AskedPlane,
+) -> Result<Vec<(String, Diagram)>, PlaneDrawError> {
     let mut asking: Vec<bool> = Vec::new();
     let mut sets = Vec::new();
     for s in &collection.diagrams {
@@ -71,12 +84,10 @@ fn draw(collection: &Collection<'_>, a: &AskedPlane) -> Result<Vec<(String, Diag
         ));
         sets.push(part);
     }
-    let mut all = Results::merged(sets).map_err(|e| e.to_string())?;
+    let mut all =
+        Results::merged(sets).map_err(|e| PlaneDrawError::Merge(std::sync::Arc::new(e)))?;
     all.name = "shown".into();
-    let groups = a
-        .plane
-        .groups(&all.counts, &all.scales)
-        .map_err(|e| e.to_string())?;
+    let groups = a.plane.groups(&all.counts, &all.scales)?;
     let mut keep = vec![false; all.counts.len()];
     for g in groups
         .iter()
@@ -87,7 +98,7 @@ fn draw(collection: &Collection<'_>, a: &AskedPlane) -> Result<Vec<(String, Diag
         }
     }
     let kept = all.keep(&keep);
-    let mut drawn = plane_diagrams(&kept, &a.plane).map_err(|e| e.to_string())?;
+    let mut drawn = plane_diagrams(&kept, &a.plane)?;
     for (_, d) in &mut drawn {
         // "shown: xt = 49.95, sigma = 5" -> "xt = 49.95, sigma = 5"
         if let Some(t) = d.title.strip_prefix("shown: ") {

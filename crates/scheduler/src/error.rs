@@ -110,6 +110,22 @@ pub enum RunError {
     Definition(#[from] StoredSweepError),
 }
 
+/// A point found in a store or an export that the sweep could not hold (see
+/// [`crate::Sweep::points_with`]).
+#[derive(Debug, Clone, Error)]
+pub enum AddedPointError {
+    #[error("{axes} is not a point of sweep {sweep:?}: {why}")]
+    NotOfSweep {
+        axes: String,
+        sweep: String,
+        why: String,
+    },
+    #[error(
+        "{axes}: more added values in its column than the sweep's max_new_per_column = {budget}"
+    )]
+    OverBudget { axes: String, budget: u32 },
+}
+
 /// A sweep file whose `[refine]` rule cannot hold the beta values earlier rounds added to the
 /// sweep of its name in the store (another step, a smaller budget): refused before anything is
 /// written, since the store's own export would then be refused by `import`.
@@ -123,7 +139,7 @@ pub enum RetuneError {
     )]
     Refused {
         name: String,
-        why: String,
+        why: AddedPointError,
         stored: String,
     },
     #[error(transparent)]

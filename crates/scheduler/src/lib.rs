@@ -35,8 +35,8 @@ pub mod worker;
 
 pub use coordinator::{run_sweep, Ending, Progress, Reporter, RunOptions, RunReport};
 pub use error::{
-    AxisError, CallError, PayloadError, RetuneError, RunError, SlurmError, StoredSweepError,
-    SweepError, ValueError,
+    AddedPointError, AxisError, CallError, PayloadError, RetuneError, RunError, SlurmError,
+    StoredSweepError, SweepError, ValueError,
 };
 pub use ledger::{Failure, Ledger, Opening, RowCheck, Settlement, TaskRef};
 pub use lock::{LockError, StoreLock};

@@ -147,7 +147,7 @@ fn sweep_section(h: &mut String, v: &SweepView) {
             }
         }
         Err(why) => {
-            let _ = writeln!(h, "<p class=\"small\">diagrams: {}</p>", escape(why));
+            let _ = writeln!(h, "<p class=\"small\">diagrams: {}</p>", escape(&why.0));
         }
     }
     h.push_str("</section>\n");
@@ -297,7 +297,7 @@ fn arrays(h: &mut String, v: &SweepView) {
     }
     h.push_str("</table>\n");
     let queue = match &v.queue {
-        Err(e) => format!("the queue could not be asked ({})", escape(e)),
+        Err(e) => format!("the queue could not be asked ({})", escape(&e.0)),
         Ok(q) if q.is_empty() => "none queued or running".to_string(),
         Ok(q) => q
             .iter()

@@ -20,7 +20,7 @@ pub struct SweepView {
     pub view: cellsweep_report::status::SweepView,
     /// The diagrams as inline SVG, or why they are not drawn.
     #[serde(skip)]
-    pub diagrams: Result<Vec<String>, String>,
+    pub diagrams: Result<Vec<String>, cellsweep_report::status::Unavailable>,
 }
 
 impl std::ops::Deref for SweepView {

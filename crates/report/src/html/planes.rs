@@ -28,7 +28,7 @@ pub(super) fn planes_section(h: &mut String, an: &Analysis<'_>) {
         );
         match &a.drawn {
             Err(why) => {
-                let _ = writeln!(h, "<p>Not drawn: {}.</p>", escape(why));
+                let _ = writeln!(h, "<p>Not drawn: {}.</p>", escape(&why.to_string()));
             }
             Ok(d) if d.is_empty() => {
                 h.push_str("<p>Not drawn: no point of the asking sweeps is shown.</p>\n")

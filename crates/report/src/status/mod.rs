@@ -35,6 +35,17 @@ pub enum StatusError {
     },
 }
 
+/// Why a part of a [`SweepView`] is not there (the queue did not answer, the results are not
+/// read or are too many to redraw live), in the words every reader shows.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unavailable(pub String);
+
+impl std::fmt::Display for Unavailable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
 /// One sweep under one solver version, as every reader shows it.
 #[derive(Debug, Clone, Serialize)]
 pub struct SweepView {
@@ -62,11 +73,11 @@ pub struct SweepView {
     pub retry: Option<String>,
     pub arrays: Vec<SlurmArray>,
     /// States of the arrays' tasks in Slurm's queue, or why squeue gave no answer.
-    pub queue: Result<Vec<(String, usize)>, String>,
+    pub queue: Result<Vec<(String, usize)>, Unavailable>,
     /// The sweep's results, where they are read (the current solver's, at most `max_points`
     /// points): what the live page draws.
     #[serde(skip)]
-    pub results: Result<Results, String>,
+    pub results: Result<Results, Unavailable>,
 }
 
 /// Every sweep of `store` (opened read-only at `path`) under each solver version it has jobs
@@ -119,7 +130,7 @@ fn sweep_view(
     let retry = (!failures.is_empty()).then(|| retry_command(store, id, path));
     let arrays = store.arrays_of(id, &status.solver_version)?;
     let queue = engine::queue_states(store, id, &status.sweep, &status.solver_version)
-        .map_err(|e| e.to_string());
+        .map_err(|e| Unavailable(e.to_string()));
     let open = standings
         .as_ref()
         .and_then(|s| s.get("open"))
@@ -141,7 +152,8 @@ fn sweep_view(
             path.display()
         )),
         Some(r) => r.map_err(|e| format!("sweep {sweep:?}: {e}")),
-    };
+    }
+    .map_err(Unavailable);
     Ok(SweepView {
         live,
         current,

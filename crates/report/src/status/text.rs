@@ -128,7 +128,7 @@ pub fn json(v: &SweepView, failed: bool) -> Result<Value, serde_json::Error> {
     if !v.arrays.is_empty() {
         let queue = match &v.queue {
             Ok(states) => json!(states),
-            Err(e) => json!({ "unknown": e }),
+            Err(e) => json!({ "unknown": e.0 }),
         };
         o["slurm"] = json!({ "arrays": v.arrays, "queue": queue });
     }

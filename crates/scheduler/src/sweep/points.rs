@@ -13,7 +13,7 @@ use cellsweep_stats::Axes;
 use cellsweep_store::{spec_change, SpecChange, Store, StoreError};
 
 use super::Sweep;
-use crate::error::RetuneError;
+use crate::error::{AddedPointError, RetuneError};
 
 impl Sweep {
     /// Parameters of every grid point, ordered by the other axes (the first outermost), then
@@ -128,7 +128,7 @@ impl Sweep {
     pub fn points_with(
         &self,
         found: impl IntoIterator<Item = Axes>,
-    ) -> Result<Vec<Params>, String> {
+    ) -> Result<Vec<Params>, AddedPointError> {
         let mut points = self.points();
         let mut seen: HashSet<_> = points.iter().map(|p| self.axes_of(p).key()).collect();
         let mut per_column: HashMap<_, u32> = Default::default();
@@ -137,19 +137,20 @@ impl Sweep {
                 continue;
             }
             if let Some(why) = self.refused_addition(&axes) {
-                return Err(format!(
-                    "{axes} is not a point of sweep {:?}: {why}",
-                    self.name
-                ));
+                return Err(AddedPointError::NotOfSweep {
+                    axes: axes.to_string(),
+                    sweep: self.name.clone(),
+                    why,
+                });
             }
             let n = per_column.entry(axes.column()).or_default();
             *n += 1;
             let budget = self.refine.map_or(0, |r| r.max_new_per_column);
             if *n > budget {
-                return Err(format!(
-                    "{axes}: more added values in its column than the sweep's max_new_per_column = \
-                     {budget}"
-                ));
+                return Err(AddedPointError::OverBudget {
+                    axes: axes.to_string(),
+                    budget,
+                });
             }
             points.push(self.point(&axes));
         }

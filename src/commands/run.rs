@@ -217,7 +217,7 @@ fn summarize(
     let loaded = cellsweep_report::load::from_store(&args.db.db, Some(&sweep.name))?;
     println!();
     print!("{}", text::grids_text(&loaded.counts));
-    println!("{}", text::LEGEND);
+    println!("{}", text::legend());
     let unfinished = interrupted
         || loaded
             .standings

@@ -7,7 +7,7 @@ use serde_json::json;
 use crate::cli::{Format, TableArgs};
 
 use cellsweep_report::text::{
-    fraction_cell, fractions, grids_text, plane_grids_text, share_ends, BOX_LEGEND, LEGEND,
+    fraction_cell, fractions, grids_text, legend, plane_grids_text, share_ends, BOX_LEGEND,
 };
 
 pub fn run(args: TableArgs) -> anyhow::Result<()> {
@@ -42,7 +42,7 @@ fn standing_of(standings: Option<&[Assessment]>, i: usize) -> Option<&Assessment
 fn print_text(grids: &str, counts: &[Counts], standings: Option<&[Assessment]>) {
     let standing = |i| standing_of(standings, i);
     print!("{grids}");
-    println!("{LEGEND}");
+    println!("{}", legend());
     let boxed = counts.iter().filter(|c| c.box_limited).count();
     if boxed > 0 {
         println!(

@@ -141,14 +141,14 @@ fn replicate_end(source: &str, sweep: &Sweep, r: &ExportRow) -> Result<(u32, End
     let Some(end) = End::of(&r.verdict, r.outcome.as_deref()) else {
         invalid!(
             "{}: replicate {} at alpha = {}, beta = {}: verdict {:?} with outcome {:?} is not a \
-             result (an ok prep's outcome is train, walk_past, reversal or undetermined; \
-             other verdicts have none)",
+             result (an ok prep's outcome is one of {}; other verdicts have none)",
             source,
             r.replicate,
             r.alpha,
             r.beta,
             r.verdict,
-            r.outcome.as_deref().unwrap_or("")
+            r.outcome.as_deref().unwrap_or(""),
+            End::stored_outcomes()
         );
     };
     let k = r.replicate;

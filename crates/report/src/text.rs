@@ -120,9 +120,22 @@ fn grid_of(cells: &[(f64, f64, &Counts)], [x_name, y_name]: [&str; 2], title: &s
     s
 }
 
-pub const LEGEND: &str =
-    "legend: * walk_past  x train  + reversal  *x coexist (walk-past and training within 10%)  \
-                          . unstable  <> breakup  ? undetermined  ~ mixed";
+/// The symbols of the text diagrams, one per label
+/// (`legend: * walk_past  x train  + reversal  *x coexist (...)  . unstable ...`).
+pub fn legend() -> String {
+    let entries: Vec<String> = Label::ALL
+        .iter()
+        .map(|l| match l {
+            Label::Coexist => format!(
+                "{} {} (walk-past and training within 10%)",
+                l.symbol(),
+                l.as_str()
+            ),
+            _ => format!("{} {}", l.symbol(), l.as_str()),
+        })
+        .collect();
+    format!("legend: {}", entries.join("  "))
+}
 
 /// What `[box]` beside a label means (SPEC section 4.5).
 pub const BOX_LEGEND: &str = "[box] box-limited: a prepped cell longer than 0.65 of its box (the \

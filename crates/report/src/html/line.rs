@@ -43,7 +43,7 @@ fn how_the_line_is_read() -> String {
         "Per α column of each diagram, β* is where walk-past and training are equally \
          frequent. <b>Model</b> (primary): the fraction of walk-past among a point's walk-past \
          and training ends is fitted as a logistic curve in β over the whole column (binomial \
-         maximum likelihood; reversals, undetermined ends and breakups left out), β* is its \
+         maximum likelihood; every other end left out), β* is its \
          midpoint, and its 95% interval the profile likelihood's, widened by the dispersion \
          where the deviance shows lack of fit; a column gets a β* only when that interval is \
          closed inside the β it sampled. The line is fitted to the β* of every spacing by \

@@ -52,7 +52,7 @@ pub struct WorkerArgs {
     pub slurm: Option<std::path::PathBuf>,
     /// prep or collide.
     #[arg(long, default_value = "collide")]
-    pub kind: String,
+    pub kind: cellsweep_scheduler::slurm::ArrayKind,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

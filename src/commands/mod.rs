@@ -54,7 +54,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Collect(args) => slurm::collect(args).map(|_| 0),
         Command::Worker(args) => {
             if let Some(dir) = &args.slurm {
-                cellsweep_scheduler::slurm::serve_array_task(dir, &args.kind)?;
+                cellsweep_scheduler::slurm::serve_array_task(dir, args.kind)?;
                 return Ok(0);
             }
             let stdin = std::io::stdin();

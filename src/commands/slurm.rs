@@ -4,7 +4,7 @@ use anyhow::Context;
 use cellsweep_scheduler::engine::{
     drive, DriveOptions, EngineError, Event, Finish, Session, SessionOptions, SlurmArrays, Target,
 };
-use cellsweep_scheduler::slurm::{self, SubmitOptions};
+use cellsweep_scheduler::slurm::{self, ArrayKind, SubmitOptions};
 use cellsweep_scheduler::{plan, StoreLock, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_store::Store;
@@ -181,14 +181,14 @@ fn show_dry_run(args: &SubmitArgs, sweep: &Sweep, opts: &SubmitOptions) -> anyho
         let sub = opts.run_dir.join("sub-0000");
         println!(
             "{}",
-            slurm::script(opts, &sub, "prep", new.preps.len(), &sweep.name)
+            slurm::script(opts, &sub, ArrayKind::Prep, new.preps.len(), &sweep.name)
         );
         println!(
             "{}",
             slurm::script(
                 opts,
                 &sub,
-                "collide",
+                ArrayKind::Collide,
                 jobs.div_ceil(opts.jobs_per_task),
                 &sweep.name
             )

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::read_responses;
+use super::{read_responses, ArrayKind};
 use crate::error::SlurmError;
 use crate::run_dir::{io, write_atomic};
 use crate::wire::{PrepPayload, Request, Response};
@@ -21,7 +21,7 @@ extern "C" fn on_usr1(_: libc::c_int) {
 /// A task that stops before its last record says why in its exit marker
 /// (`SUB_DIR/exits/<kind>-<task>.txt`, one line, best effort: the run directory may be what
 /// failed), which `collect` gives as the reason of the jobs left without a result.
-pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
+pub fn serve_array_task(sub_dir: &Path, kind: ArrayKind) -> Result<(), SlurmError> {
     // SAFETY: the handler only stores to an atomic.
     unsafe {
         libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
@@ -43,12 +43,12 @@ pub fn serve_array_task(sub_dir: &Path, kind: &str) -> Result<(), SlurmError> {
 }
 
 /// Where an array task says why it stopped early.
-pub(crate) fn exit_marker(sub_dir: &Path, kind: &str, task: usize) -> std::path::PathBuf {
+pub(crate) fn exit_marker(sub_dir: &Path, kind: ArrayKind, task: usize) -> std::path::PathBuf {
     sub_dir.join(format!("exits/{kind}-{task}.txt"))
 }
 
 /// The task's records; `Some(why)` where it stopped before the last.
-fn serve_task(sub_dir: &Path, kind: &str, task: usize) -> Result<Option<String>, SlurmError> {
+fn serve_task(sub_dir: &Path, kind: ArrayKind, task: usize) -> Result<Option<String>, SlurmError> {
     let tasks = sub_dir.join(format!("tasks/{kind}/{task}.jsonl"));
     let results = sub_dir.join(format!("results/{kind}-{task}.jsonl"));
     let preps_dir = sub_dir

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::queue::{run_with_timeout, SQUEUE_TIMEOUT};
-use super::SubmitOptions;
+use super::{ArrayKind, SubmitOptions};
 use crate::error::QueueError;
 use crate::error::SlurmError;
 
@@ -84,7 +84,7 @@ impl SubmitOptions {
 pub fn script(
     opts: &SubmitOptions,
     sub_dir: &Path,
-    kind: &str,
+    kind: ArrayKind,
     tasks: usize,
     name: &str,
 ) -> String {

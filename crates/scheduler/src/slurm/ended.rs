@@ -18,6 +18,7 @@ use serde::Deserialize;
 
 use super::array_task::exit_marker;
 use super::queue::{run_with_timeout, Queue, SQUEUE_TIMEOUT};
+use super::ArrayKind;
 use crate::error::SlurmError;
 use crate::ledger::{Failure, Ledger, TaskRef};
 
@@ -102,7 +103,10 @@ fn examine(
     sub: &Path,
     ended: &mut Ended,
 ) -> Result<(), SlurmError> {
-    let kind = a.kind.as_str();
+    // The store's CHECK holds `prep` or `collide`; anything else is not an array of ours.
+    let Ok(kind) = a.kind.parse::<ArrayKind>() else {
+        return Ok(());
+    };
     let mut accounting: Option<HashMap<String, String>> = None;
     for k in 0..a.tasks.max(0) as usize {
         let file = sub.join(format!("tasks/{kind}/{k}.jsonl"));
@@ -115,7 +119,7 @@ fn examine(
                 continue;
             };
             let (of, open) = match kind {
-                "prep" => (
+                ArrayKind::Prep => (
                     TaskRef::Prep(sent.task),
                     store
                         .prep_identity(sent.task, ledger.sweep_id)?
@@ -170,7 +174,7 @@ fn end_reason(
     store: &Store,
     ledger: &Ledger,
     sub: &Path,
-    kind: &str,
+    kind: ArrayKind,
     k: usize,
     slurm_id: &str,
     accounting: &HashMap<String, String>,
@@ -241,7 +245,7 @@ fn read_tail(path: &Path) -> String {
 
 /// What a time limit that fits would be: the script's limit, the jobs per task, and the
 /// sweep's measured time per collision.
-fn time_advice(store: &Store, ledger: &Ledger, sub: &Path, kind: &str) -> String {
+fn time_advice(store: &Store, ledger: &Ledger, sub: &Path, kind: ArrayKind) -> String {
     let script = std::fs::read_to_string(sub.join(format!("{kind}.sbatch"))).unwrap_or_default();
     let limit = script
         .lines()
@@ -253,7 +257,7 @@ fn time_advice(store: &Store, ledger: &Ledger, sub: &Path, kind: &str) -> String
         .map(|t| t.lines().filter(|l| !l.trim().is_empty()).count())
         .unwrap_or(0);
     let measured = match kind {
-        "collide" => store
+        ArrayKind::Collide => store
             .mean_collision_wall_s(ledger.sweep_id, &ledger.version)
             .ok()
             .flatten(),

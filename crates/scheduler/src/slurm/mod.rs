@@ -31,6 +31,7 @@ mod array_task;
 mod collect;
 mod commands;
 mod ended;
+mod kind;
 mod queue;
 
 pub use crate::error::QueueError;
@@ -39,6 +40,7 @@ pub use collect::{collect, read_responses, Collected};
 use commands::sbatch;
 pub use commands::{max_array_size, script, shell_quote};
 pub use ended::{settle_ended_arrays, Ended, EndedKind};
+pub use kind::ArrayKind;
 pub use queue::{job_name, queue_of, Queue, QueuedTask};
 
 /// How to submit.
@@ -71,8 +73,8 @@ pub struct Submission {
     pub collide_tasks: usize,
     pub jobs: usize,
     pub jobs_per_task: usize,
-    pub scripts: Vec<(String, String)>,
-    pub slurm_ids: Vec<(String, String)>,
+    pub scripts: Vec<(ArrayKind, String)>,
+    pub slurm_ids: Vec<(ArrayKind, String)>,
 }
 
 fn write_tasks(dir: &Path, reqs: &[Request], per_task: usize) -> Result<usize, SlurmError> {
@@ -141,14 +143,14 @@ pub fn submit(
     sub.collide_tasks = jobs.div_ceil(per_task);
     if sub.prep_tasks > 0 {
         sub.scripts.push((
-            "prep".into(),
-            script(opts, &sub_dir, "prep", sub.prep_tasks, name),
+            ArrayKind::Prep,
+            script(opts, &sub_dir, ArrayKind::Prep, sub.prep_tasks, name),
         ));
     }
     if sub.collide_tasks > 0 {
         sub.scripts.push((
-            "collide".into(),
-            script(opts, &sub_dir, "collide", sub.collide_tasks, name),
+            ArrayKind::Collide,
+            script(opts, &sub_dir, ArrayKind::Collide, sub.collide_tasks, name),
         ));
     }
     if opts.dry_run || sub.scripts.is_empty() {
@@ -241,7 +243,7 @@ fn send(
     for (kind, text) in sub.scripts.clone() {
         let path = sub.sub_dir.join(format!("{kind}.sbatch"));
         write_atomic(&path, text.as_bytes())?;
-        let (tasks, count) = if kind == "prep" {
+        let (tasks, count) = if kind == ArrayKind::Prep {
             (sub.prep_tasks, sub.preps)
         } else {
             (sub.collide_tasks, sub.jobs)
@@ -251,7 +253,7 @@ fn send(
             version,
             &SlurmArray {
                 id: 0,
-                kind: kind.clone(),
+                kind: kind.to_string(),
                 slurm_job_id: None,
                 run_dir: opts.run_dir.display().to_string(),
                 sub_dir: Some(sub.sub_dir.display().to_string()),

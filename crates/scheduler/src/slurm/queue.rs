@@ -7,6 +7,7 @@
 //! carries its array's id, its state and the script it runs, so an array whose id the store
 //! never learned (a kill between sbatch and the store) is found again by its script.
 
+use super::ArrayKind;
 use crate::error::QueueError;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -33,14 +34,18 @@ pub struct Queue {
 }
 
 /// The job names of a sweep's arrays (as the sbatch scripts set them).
-pub fn job_name(sweep: &str, kind: &str) -> String {
+pub fn job_name(sweep: &str, kind: ArrayKind) -> String {
     format!("cellsweep-{sweep}-{kind}")
 }
 
 impl Queue {
     /// Ask squeue for the tasks of `sweep`'s arrays.
     pub fn ask(sweep: &str) -> Result<Queue, QueueError> {
-        let names = format!("{},{}", job_name(sweep, "prep"), job_name(sweep, "collide"));
+        let names = format!(
+            "{},{}",
+            job_name(sweep, ArrayKind::Prep),
+            job_name(sweep, ArrayKind::Collide)
+        );
         let out = run_with_timeout(
             Command::new("squeue").args(["-h", "-r", "--name", &names, "-o", "%F|%T|%o"]),
             SQUEUE_TIMEOUT,

@@ -5,7 +5,7 @@
 //! line.
 
 use crate::figure::{Anchor, Color, Figure, Shape};
-use crate::panel::{clip, nice_ticks, text_width, Panel};
+use crate::panel::{clip, text_width, Panel};
 
 /// One column's crossing.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,23 +133,7 @@ fn room(v: impl Iterator<Item = f64>) -> (f64, f64) {
 
 /// The frame, ticks and axis labels (alpha~/L~ across, beta* up).
 fn frame(fig: &mut Figure, p: &Panel) {
-    fig.push(Shape::Rect {
-        x: p.x,
-        y: p.y,
-        w: p.w,
-        h: p.h,
-        fill: None,
-        stroke: Some(Color::BLACK),
-    });
-    for v in nice_ticks(p.ax.0, p.ax.1, 8) {
-        let x = p.px(v);
-        fig.line(x, p.y + p.h, x, p.y + p.h + 5.0, Color::BLACK, 1.0);
-        fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{v}"));
-    }
-    for v in nice_ticks(p.by.0, p.by.1, 7) {
-        fig.line(p.x - 5.0, p.py(v), p.x, p.py(v), Color::BLACK, 1.0);
-        fig.text(p.x - 8.0, p.py(v) + 4.0, 12.0, Anchor::End, format!("{v}"));
-    }
+    p.frame_with_round_ticks(fig, 8, 7);
     let (cx, cy) = (p.x + p.w / 2.0, p.y + p.h / 2.0);
     fig.text(cx, p.y + p.h + 42.0, 15.0, Anchor::Middle, "α̃ / L̃");
     fig.vtext(p.x - 52.0, cy, 15.0, "β*");

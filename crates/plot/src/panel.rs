@@ -1,5 +1,8 @@
-//! The geometry shared by the figures: a data rectangle in pixels, axis ranges, round ticks,
-//! the clipping of a line, and the width of a label.
+//! The geometry shared by the figures: a data rectangle in pixels with its frame and ticks
+//! (the one drawer of every figure's axes), axis ranges, round ticks, the clipping of a line,
+//! and the width of a label.
+
+use crate::figure::{Anchor, Color, Figure, Shape};
 
 /// The distinct values, sorted.
 pub(crate) fn axis(v: impl Iterator<Item = f64>) -> Vec<f64> {
@@ -55,6 +58,48 @@ impl Panel {
     }
     pub fn py(&self, beta: f64) -> f64 {
         self.y + self.h - (beta - self.by.0) / (self.by.1 - self.by.0) * self.h
+    }
+
+    /// The panel's outline, in black.
+    pub fn frame(&self, fig: &mut Figure) {
+        fig.push(Shape::Rect {
+            x: self.x,
+            y: self.y,
+            w: self.w,
+            h: self.h,
+            fill: None,
+            stroke: Some(Color::BLACK),
+        });
+    }
+
+    /// A tick below the panel at `v` along x, with its value when `labelled`.
+    pub fn x_tick(&self, fig: &mut Figure, v: f64, labelled: bool) {
+        let (x, bottom) = (self.px(v), self.y + self.h);
+        fig.line(x, bottom, x, bottom + 5.0, Color::BLACK, 1.0);
+        if labelled {
+            fig.text(x, bottom + 19.0, 12.0, Anchor::Middle, format!("{v}"));
+        }
+    }
+
+    /// A tick left of the panel at `v` up the y axis, with its value when `labelled`.
+    pub fn y_tick(&self, fig: &mut Figure, v: f64, labelled: bool) {
+        let y = self.py(v);
+        fig.line(self.x - 5.0, y, self.x, y, Color::BLACK, 1.0);
+        if labelled {
+            fig.text(self.x - 8.0, y + 4.0, 12.0, Anchor::End, format!("{v}"));
+        }
+    }
+
+    /// The outline and round, labelled ticks on both axes (at most about `nx` across and `ny`
+    /// up, [`nice_ticks`]).
+    pub fn frame_with_round_ticks(&self, fig: &mut Figure, nx: usize, ny: usize) {
+        self.frame(fig);
+        for v in nice_ticks(self.ax.0, self.ax.1, nx) {
+            self.x_tick(fig, v, true);
+        }
+        for v in nice_ticks(self.by.0, self.by.1, ny) {
+            self.y_tick(fig, v, true);
+        }
     }
 }
 

@@ -60,23 +60,12 @@ fn frame(
     [x_name, y_name]: &[String; 2],
     title: &str,
 ) {
-    fig.push(Shape::Rect {
-        x: p.x,
-        y: p.y,
-        w: p.w,
-        h: p.h,
-        fill: None,
-        stroke: Some(Color::BLACK),
-    });
+    p.frame(fig);
     fig.text(p.x + p.w / 2.0, p.y - 12.0, 15.0, Anchor::Middle, title);
     // A tick at every grid value; labels thinned to at most 6 across and 11 down.
     let every = alphas.len().div_ceil(6).max(1);
     for (k, a) in alphas.iter().enumerate() {
-        let x = p.px(*a);
-        fig.line(x, p.y + p.h, x, p.y + p.h + 5.0, Color::BLACK, 1.0);
-        if k % every == 0 {
-            fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{a}"));
-        }
+        p.x_tick(fig, *a, k % every == 0);
     }
     // Ticks at the grid's betas only (values a refinement added, a few tenths apart, would
     // pile up into a black bar): an even axis labels every k-th, an uneven one a label where
@@ -89,9 +78,9 @@ fn frame(
     let mut last = f64::INFINITY;
     for (k, b) in betas.iter().enumerate() {
         let y = p.py(*b);
-        fig.line(p.x - 5.0, y, p.x, y, Color::BLACK, 1.0);
-        if (even && k % every == 0) || (!even && last - y >= 16.0) {
-            fig.text(p.x - 8.0, y + 4.0, 12.0, Anchor::End, format!("{b}"));
+        let labelled = (even && k % every == 0) || (!even && last - y >= 16.0);
+        p.y_tick(fig, *b, labelled);
+        if labelled {
             last = y;
         }
     }

@@ -1,7 +1,7 @@
 //! The free speed of the prepped cells against beta, one curve per series.
 
 use crate::figure::{Anchor, Color, Figure, Shape};
-use crate::panel::{axis, nice_ticks, span, text_width, Panel};
+use crate::panel::{axis, span, text_width, Panel};
 
 /// A curve of the speed figure: points (beta, value) with an optional error bar each.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,23 +72,7 @@ fn error_bar(s: &Series, k: usize) -> Option<f64> {
 
 /// The frame, ticks and axis labels of the panel (beta across, the speed up).
 fn axes(fig: &mut Figure, p: &Panel) {
-    fig.push(Shape::Rect {
-        x: p.x,
-        y: p.y,
-        w: p.w,
-        h: p.h,
-        fill: None,
-        stroke: Some(Color::BLACK),
-    });
-    for b in nice_ticks(p.ax.0, p.ax.1, 8) {
-        let x = p.px(b);
-        fig.line(x, p.y + p.h, x, p.y + p.h + 5.0, Color::BLACK, 1.0);
-        fig.text(x, p.y + p.h + 19.0, 12.0, Anchor::Middle, format!("{b}"));
-    }
-    for v in nice_ticks(p.by.0, p.by.1, 6) {
-        fig.line(p.x - 5.0, p.py(v), p.x, p.py(v), Color::BLACK, 1.0);
-        fig.text(p.x - 8.0, p.py(v) + 4.0, 12.0, Anchor::End, format!("{v}"));
-    }
+    p.frame_with_round_ticks(fig, 8, 6);
     fig.text(p.x + p.w / 2.0, p.y + p.h + 42.0, 17.0, Anchor::Middle, "β");
     fig.vtext(p.x - 52.0, p.y + p.h / 2.0, 14.0, "free speed (l_0/τ_0)");
 }

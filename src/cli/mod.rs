@@ -2,13 +2,13 @@
 
 use clap::{Args, Parser, Subcommand};
 
-mod engine;
 mod results;
+mod run_flags;
 mod selection;
 mod solver;
 
-pub use engine::*;
 pub use results::*;
+pub use run_flags::*;
 pub use selection::*;
 pub use solver::*;
 

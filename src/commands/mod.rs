@@ -6,6 +6,7 @@ mod converge;
 mod dry_run;
 mod export;
 mod fit;
+mod import;
 mod model;
 mod plot;
 mod relax;
@@ -34,7 +35,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<i32> {
         Command::Replay(args) => replay::run(args),
         Command::Verify(args) => replay::verify(args),
         Command::Export(args) => export::run(args).map(|_| 0),
-        Command::Import(args) => export::import(args).map(|_| 0),
+        Command::Import(args) => import::run(args).map(|_| 0),
         Command::Reset(args) => reset::run(args).map(|_| 0),
         Command::Plot(args) => plot::run(args).map(|_| 0),
         Command::Report(args) => report::run(args).map(|_| 0),

@@ -23,12 +23,12 @@ pub struct Analysis<'a> {
     /// Per diagram: its columns (beta* with interval, or why none) and its own line, if one.
     pub per_diagram: Vec<(DiagramKey, Vec<Column>, Option<Fit>)>,
     /// The line over all spacings at sigma = 5 (the paper's global fit) and at sigma = 0.
-    pub fit5: Result<Fit, NoFit>,
-    pub fit0: Result<Fit, NoFit>,
+    pub line_sigma5: Result<Fit, NoFit>,
+    pub line_sigma0: Result<Fit, NoFit>,
     pub shift: Option<Shift>,
     /// The same three by the paper's reading (beta* interpolated between grid rows), beside.
-    pub fit5_interpolated: Result<Fit, NoFit>,
-    pub fit0_interpolated: Result<Fit, NoFit>,
+    pub line_sigma5_interpolated: Result<Fit, NoFit>,
+    pub line_sigma0_interpolated: Result<Fit, NoFit>,
     pub shift_interpolated: Option<Shift>,
     /// Every shown column with its sweep's scales, and the line through all of them.
     pub collapse_columns: Vec<Placed>,
@@ -62,11 +62,11 @@ impl<'a> Analysis<'a> {
         let (c0, scales0) = collection.counts_at(Some(0.0));
         let (call, scales) = collection.counts_at(None);
         Analysis {
-            fit5: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Model),
-            fit0: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Model),
+            line_sigma5: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Model),
+            line_sigma0: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Model),
             shift: measure_shift(&call, &scales, RESAMPLES, SEED, Method::Model),
-            fit5_interpolated: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Interpolate),
-            fit0_interpolated: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Interpolate),
+            line_sigma5_interpolated: fit_line(&c5, &scales5, RESAMPLES, SEED, Method::Interpolate),
+            line_sigma0_interpolated: fit_line(&c0, &scales0, RESAMPLES, SEED, Method::Interpolate),
             shift_interpolated: measure_shift(&call, &scales, RESAMPLES, SEED, Method::Interpolate),
             collapse: fit_columns(pooled, RESAMPLES, SEED),
             collapse_columns,

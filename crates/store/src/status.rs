@@ -357,29 +357,6 @@ impl Store {
         })?;
         Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)
     }
-
-    /// Put a sweep's failed jobs and preps back to pending, each with `max_attempts` attempts
-    /// anew (their errors are kept until they run again). The count of failed attempts goes
-    /// on growing, so a failure recorded before the retry is never counted again. Returns how
-    /// many.
-    pub fn retry_failed(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
-        let tx = self.write()?;
-        let preps = tx.execute(
-            "UPDATE preps SET state = 'pending', attempts_at_retry = attempts
-             WHERE state = 'failed' AND solver_version = ?2 AND id IN (
-                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1)",
-            params![sweep_id, version],
-        )?;
-        let jobs = tx.execute(
-            "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts
-             WHERE state = 'failed' AND solver_version = ?2
-               AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
-            params![sweep_id, version],
-        )?;
-        tx.commit()?;
-        Ok(preps + jobs)
-    }
 }
 
 /// What this store measured of the solver: mean seconds per prep and per collision (of

@@ -1,6 +1,6 @@
 //! The guarded transitions of the job lifecycle ([`crate::lifecycle`]) other than finishing:
-//! claiming, failing an attempt, and recovering what a killed run left `running`. Each is one
-//! UPDATE that applies only from the expected state.
+//! claiming, failing an attempt, recovering what a killed run left `running`, and retrying
+//! what failed for good. Each is one UPDATE that applies only from the expected state.
 
 use rusqlite::{params, OptionalExtension};
 
@@ -10,6 +10,29 @@ use crate::error::{Result, StoreError};
 use crate::lifecycle::JobState;
 
 impl Store {
+    /// Put a sweep's failed jobs and preps back to pending, each with `max_attempts` attempts
+    /// anew (their errors are kept until they run again). The count of failed attempts goes
+    /// on growing, so a failure recorded before the retry is never counted again. Returns how
+    /// many.
+    pub fn retry_failed(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
+        let tx = self.write()?;
+        let preps = tx.execute(
+            "UPDATE preps SET state = 'pending', attempts_at_retry = attempts
+             WHERE state = 'failed' AND solver_version = ?2 AND id IN (
+                 SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
+                 WHERE p.sweep_id = ?1)",
+            params![sweep_id, version],
+        )?;
+        let jobs = tx.execute(
+            "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts
+             WHERE state = 'failed' AND solver_version = ?2
+               AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
+            params![sweep_id, version],
+        )?;
+        tx.commit()?;
+        Ok(preps + jobs)
+    }
+
     /// Put the sweep's `running` preps and jobs of `version` back to `pending`: a coordinator that
     /// was killed or interrupted did not finish them. Returns how many were recovered.
     pub fn recover_running(&mut self, sweep_id: i64, version: &str) -> Result<usize> {

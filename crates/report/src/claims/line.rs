@@ -18,7 +18,7 @@ pub(super) fn global_fit(an: &Analysis<'_>) -> Claim {
         .into_iter()
         .filter(|&l| an.collection.diagram(l, 5.0).is_some())
         .collect();
-    let fit = match &an.fit5 {
+    let fit = match &an.line_sigma5 {
         Ok(f) => f,
         Err(_) if spacings.is_empty() => {
             return no_data(source, quote, rule, "a diagram at σ = 5");

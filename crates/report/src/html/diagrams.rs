@@ -111,9 +111,9 @@ pub(super) fn diagrams_section(h: &mut String, an: &Analysis<'_>) {
             continue;
         };
         let fit = if key.sigma == 5.0 {
-            an.fit5.as_ref().ok()
+            an.line_sigma5.as_ref().ok()
         } else {
-            an.fit0.as_ref().ok()
+            an.line_sigma0.as_ref().ok()
         };
         let svg = diagram_of(s.results, &key, fit).to_svg();
         let _ = writeln!(

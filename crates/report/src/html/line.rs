@@ -70,23 +70,28 @@ pub(super) fn fit_section(h: &mut String, an: &Analysis<'_>) {
         how_the_line_is_read()
     );
     for (sigma, what, fit, paper) in [
-        (5.0, "σ = 5, every L: model", &an.fit5, "a = 0.6, b = −12"),
+        (
+            5.0,
+            "σ = 5, every L: model",
+            &an.line_sigma5,
+            "a = 0.6, b = −12",
+        ),
         (
             5.0,
             "σ = 5, every L: interpolation",
-            &an.fit5_interpolated,
+            &an.line_sigma5_interpolated,
             "a = 0.6, b = −12",
         ),
         (
             0.0,
             "σ = 0, every L (shifted α): model",
-            &an.fit0,
+            &an.line_sigma0,
             "the same line",
         ),
         (
             0.0,
             "σ = 0, every L (shifted α): interpolation",
-            &an.fit0_interpolated,
+            &an.line_sigma0_interpolated,
             "the same line",
         ),
     ] {

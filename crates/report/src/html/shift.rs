@@ -31,7 +31,7 @@ pub(super) fn shift_section(h: &mut String, an: &Analysis<'_>) {
                 s.columns_sigma0,
                 s.paper_delta
             );
-            scatter_note(h, &an.fit5, s);
+            scatter_note(h, &an.line_sigma5, s);
             if let Some(each) = &s.per_column {
                 column_shifts_note(h, each);
             }
@@ -46,13 +46,13 @@ pub(super) fn shift_section(h: &mut String, an: &Analysis<'_>) {
 /// How far the columns lie off the σ = 5 line and off the three-number model, in units of
 /// their own intervals (Birge's ratios): where well above 1, the line's straightness, not the
 /// columns' precision, sets the intervals of a, b and δ.
-fn scatter_note(h: &mut String, fit5: &Result<Fit, NoFit>, s: &Shift) {
+fn scatter_note(h: &mut String, line_sigma5: &Result<Fit, NoFit>, s: &Shift) {
     let (
         Ok(Fit {
             scatter: Some(r5), ..
         }),
         Some(rd),
-    ) = (fit5, s.scatter)
+    ) = (line_sigma5, s.scatter)
     else {
         return;
     };

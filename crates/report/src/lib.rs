@@ -14,6 +14,7 @@ pub mod analysis;
 pub mod claims;
 pub mod collapse;
 pub mod collection;
+pub mod compare;
 pub mod converge;
 pub mod figures;
 pub mod html;

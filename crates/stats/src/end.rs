@@ -82,6 +82,16 @@ impl End {
         }
     }
 
+    /// What it means, for a legend beside its [`End::initials`].
+    pub fn meaning(self) -> &'static str {
+        match self {
+            End::Unstable => "the prep let go of a fiber (decided by its verdict)",
+            End::Breakup => "the prep broke up (decided by its verdict)",
+            End::CollisionBreakup => "a cell broke up in the collision",
+            e => e.words(),
+        }
+    }
+
     /// Its name where room is short (a progress line).
     pub fn short(self) -> &'static str {
         match self {

@@ -25,14 +25,19 @@ impl std::fmt::Display for ArrayKind {
     }
 }
 
+/// A name that is neither `prep` nor `collide`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?} is not an array kind (prep or collide)")]
+pub struct UnknownArrayKind(pub String);
+
 impl std::str::FromStr for ArrayKind {
-    type Err = String;
+    type Err = UnknownArrayKind;
 
     /// `prep` or `collide`.
-    fn from_str(s: &str) -> Result<ArrayKind, String> {
+    fn from_str(s: &str) -> Result<ArrayKind, UnknownArrayKind> {
         ArrayKind::ALL
             .into_iter()
             .find(|k| k.as_str() == s)
-            .ok_or_else(|| format!("{s:?} is not an array kind (prep or collide)"))
+            .ok_or_else(|| UnknownArrayKind(s.to_string()))
     }
 }

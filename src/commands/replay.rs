@@ -2,7 +2,9 @@
 //! `cellsweep verify` (a seeded sample of a store's or an export's rows replayed).
 
 use anyhow::{bail, Context};
-use cellsweep_scheduler::replay::{replay, replay_with, PrepCache, ReplayError, Replayed};
+use cellsweep_scheduler::replay::{
+    find_row, replay, replay_with, row_name, PrepCache, ReplayError, Replayed,
+};
 use cellsweep_scheduler::Sweep;
 use cellsweep_solver::Silent;
 use cellsweep_stats::{End, Selector};
@@ -27,76 +29,14 @@ fn point_selector(sweep: &Sweep, text: &str) -> anyhow::Result<Selector> {
 }
 
 /// The row of replicate `replicate` at the one point `--point` names.
-fn find_row<'a>(
+fn find_point_row<'a>(
     sweep: &Sweep,
     rows: &'a [ExportRow],
     point: &str,
     replicate: u32,
 ) -> anyhow::Result<&'a ExportRow> {
     let selector = point_selector(sweep, point)?;
-    let mut at = Vec::new();
-    for r in rows {
-        let axes = sweep.axes_of_row(r).map_err(anyhow::Error::msg)?;
-        if selector.matches(|name| axes.value(name)) {
-            at.push(r);
-        }
-    }
-    if at.is_empty() {
-        bail!(
-            "--point {point}: no finished replicate of sweep {:?} is at that point",
-            sweep.name
-        );
-    }
-    let key = |r: &ExportRow| {
-        sweep
-            .axes_of_row(r)
-            .map(|a| a.to_string())
-            .unwrap_or_default()
-    };
-    let mut points: Vec<String> = at.iter().map(|r| key(r)).collect();
-    points.sort();
-    points.dedup();
-    if points.len() > 1 {
-        bail!(
-            "--point {point} matches {} points ({}): name more axes",
-            points.len(),
-            points
-                .iter()
-                .take(4)
-                .cloned()
-                .collect::<Vec<_>>()
-                .join("; ")
-        );
-    }
-    at.into_iter()
-        .find(|r| r.replicate == replicate)
-        .with_context(|| {
-            format!(
-                "--point {point}: replicate {replicate} has no result ({} replicates finished there)",
-                rows_at(rows, sweep, &points[0])
-            )
-        })
-}
-
-fn rows_at(rows: &[ExportRow], sweep: &Sweep, point: &str) -> usize {
-    rows.iter()
-        .filter(|r| {
-            sweep
-                .axes_of_row(r)
-                .map(|a| a.to_string())
-                .unwrap_or_default()
-                == point
-        })
-        .count()
-}
-
-/// One line naming a row.
-fn row_name(sweep: &Sweep, r: &ExportRow) -> String {
-    let at = sweep
-        .axes_of_row(r)
-        .map(|a| a.to_string())
-        .unwrap_or_else(|_| format!("alpha = {}, beta = {}", r.alpha, r.beta));
-    format!("{at}, replicate {}", r.replicate)
+    find_row(sweep, rows, &selector, replicate).map_err(|e| anyhow::anyhow!("--point {point}: {e}"))
 }
 
 /// What a replay says, in lines: `identical`, `identical to round-off` with the speeds a few
@@ -127,7 +67,7 @@ fn verdict_lines(r: &Replayed) -> Vec<String> {
 
 pub fn run(args: ReplayArgs) -> anyhow::Result<i32> {
     let (sweep, rows) = args.source.rows()?;
-    let row = find_row(&sweep, &rows, &args.point, args.replicate)?;
+    let row = find_point_row(&sweep, &rows, &args.point, args.replicate)?;
     println!(
         "replaying {} of {:?} ({}): prep seed {}, collision seed {}, {} collision",
         row_name(&sweep, row),

@@ -256,6 +256,64 @@ pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<
         .collect()
 }
 
+/// Why no single stored row answers a replay's point and replicate.
+#[derive(Debug, Error)]
+pub enum FindRowError {
+    #[error(transparent)]
+    Axes(#[from] crate::sweep::RowAxesError),
+    #[error("no finished replicate of sweep {sweep:?} is at that point")]
+    NoPoint { sweep: String },
+    #[error("matches {count} points ({some}): name more axes")]
+    Ambiguous { count: usize, some: String },
+    #[error("replicate {replicate} has no result ({finished} replicates finished there)")]
+    NoReplicate { replicate: u32, finished: usize },
+}
+
+/// The row of `replicate` at the one point of `sweep` that `selector` picks among `rows`.
+pub fn find_row<'a>(
+    sweep: &Sweep,
+    rows: &'a [ExportRow],
+    selector: &cellsweep_stats::Selector,
+    replicate: u32,
+) -> Result<&'a ExportRow, FindRowError> {
+    let mut at = Vec::new();
+    for r in rows {
+        let axes = sweep.axes_of_row(r)?;
+        if selector.matches(|name| axes.value(name)) {
+            at.push((axes.to_string(), r));
+        }
+    }
+    let mut points: Vec<&str> = at.iter().map(|(p, _)| p.as_str()).collect();
+    points.sort_unstable();
+    points.dedup();
+    match points.len() {
+        0 => Err(FindRowError::NoPoint {
+            sweep: sweep.name.clone(),
+        }),
+        1 => at
+            .iter()
+            .find(|(_, r)| r.replicate == replicate)
+            .map(|(_, r)| *r)
+            .ok_or(FindRowError::NoReplicate {
+                replicate,
+                finished: at.len(),
+            }),
+        count => Err(FindRowError::Ambiguous {
+            count,
+            some: points[..count.min(4)].join("; "),
+        }),
+    }
+}
+
+/// One line naming a row: its point and replicate.
+pub fn row_name(sweep: &Sweep, r: &ExportRow) -> String {
+    let at = sweep
+        .axes_of_row(r)
+        .map(|a| a.to_string())
+        .unwrap_or_else(|_| format!("alpha = {}, beta = {}", r.alpha, r.beta));
+    format!("{at}, replicate {}", r.replicate)
+}
+
 /// Two numbers (as printed) at most `n` ulps apart.
 fn within_ulps(a: &str, b: &str, n: u64) -> bool {
     match (a.parse::<f64>(), b.parse::<f64>()) {

@@ -590,3 +590,96 @@ fn an_extension_finds_crossings_above_the_grid_and_is_a_sweep_of_its_own() {
         assert!(e.contains(key), "{tail}: {e}");
     }
 }
+
+/// An extension beside its sweep (the same seed and parameters, another name and grid) runs
+/// the very same trajectories where their betas meet (seeds never depend on a sweep's name):
+/// `--data A --data B` refuses to count them twice, `--pool` reads each run once, and a row
+/// that is not the same run (another seed) is refused rather than added.
+#[test]
+fn pooling_reads_the_runs_an_extension_shares_with_its_sweep_once() {
+    let dir = common::workdir("pool");
+    let export = |name: &str, beta: &str| -> std::path::PathBuf {
+        let sweep = Sweep::parse(&sweep_text(name, beta, false), "pool.toml").unwrap();
+        let (db, mut store) = store_at(&format!("pool-{name}"));
+        let ledger = open(&mut store, &sweep);
+        drive(&mut store, &ledger, false, usize::MAX);
+        drop(store);
+        let csv = dir.join(format!("{name}.csv"));
+        let out = common::cellsweep(&[
+            "export",
+            "--db",
+            db.to_str().unwrap(),
+            "--out",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        csv
+    };
+    let grid = export("grid", "[10, 14, 18, 22]");
+    let extension = export("extension", "[18, 22, 26]");
+    let (a, b) = (grid.to_str().unwrap(), extension.to_str().unwrap());
+    let table = |args: &[&str]| {
+        let out = common::cellsweep(&[&["table", "--format", "json"], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        let points: Option<Vec<serde_json::Value>> = out
+            .status
+            .success()
+            .then(|| serde_json::from_slice(&out.stdout).unwrap());
+        (points, err)
+    };
+    let (none, err) = table(&["--data", a, "--data", b]);
+    assert!(none.is_none() && err.contains("would count twice"), "{err}");
+
+    let (pooled, err) = table(&["--pool", "--data", a, "--data", b]);
+    let pooled = pooled.unwrap_or_else(|| panic!("{err}"));
+    let (alone, _) = table(&["--data", a]);
+    let alone = alone.unwrap();
+    let key = |p: &serde_json::Value| (p["alpha"].to_string(), p["beta"].as_f64().unwrap());
+    let mut keys: Vec<_> = pooled.iter().map(key).collect();
+    keys.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    let n_keys = keys.len();
+    keys.dedup();
+    assert_eq!(keys.len(), n_keys, "a point read twice");
+    assert_eq!(
+        n_keys,
+        2 * 5,
+        "betas 10-22 of the grid and 26 of the extension, two alphas"
+    );
+    for p in &pooled {
+        assert_eq!(p["n"], 40, "{p}");
+        // Where both hold a point, its counts are the grid's own: the same runs, once.
+        if let Some(q) = alone.iter().find(|q| key(q) == key(p)) {
+            for k in ["n_walk", "n_train", "n_reversal"] {
+                assert_eq!(p[k], q[k], "{k} at {:?}", key(p));
+            }
+        }
+    }
+
+    // One row of the extension at beta 22 that is another run: refused, not added.
+    let text = std::fs::read_to_string(&extension).unwrap();
+    let mut changed = false;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            // sweep,alpha,beta,...,params,replicate,prep_seed,collision_seed,verdict,...: the
+            // collision seed is the number before the first ",ok," (params may hold commas).
+            match (l.starts_with("extension,0.1,22.0,"), l.find(",ok,")) {
+                (true, Some(at)) if !changed => {
+                    changed = true;
+                    let (head, tail) = l.split_at(at);
+                    let cut = head.rfind(',').unwrap();
+                    format!("{},12345{tail}", &head[..cut])
+                }
+                _ => l.to_string(),
+            }
+        })
+        .collect();
+    assert!(changed, "no row at beta 22 to change");
+    std::fs::write(&extension, lines.join("\n") + "\n").unwrap();
+    let (none, err) = table(&["--pool", "--data", a, "--data", b]);
+    assert!(none.is_none() && err.contains("is not a run of"), "{err}");
+}

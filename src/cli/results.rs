@@ -40,6 +40,12 @@ pub struct CountsSource {
     /// several sweeps as one (`--data data/collapse/R0-32.csv --data data/collapse/R0-48.csv`).
     #[arg(long, value_name = "EXPORT.csv", conflicts_with_all = ["db", "sweep"])]
     pub data: Vec<std::path::PathBuf>,
+    /// With several --data: read the runs they share once instead of refusing them (an
+    /// extension beside the sweep whose seed it shares, e.g. `--data
+    /// data/paper/refined-L90-sigma5.csv --data data/extended/extended-L90-sigma5.csv`): at a
+    /// point both hold, the one with more replicates is read, if the other's are among them.
+    #[arg(long, requires = "data")]
+    pub pool: bool,
 }
 
 impl CountsSource {
@@ -48,6 +54,9 @@ impl CountsSource {
         use cellsweep_report::load;
         match (self.data.as_slice(), &self.counts) {
             ([path], _) => load::from_export(path),
+            (paths, _) if self.pool => cellsweep_report::pool::pooled_exports(
+                &paths.iter().map(|p| p.as_path()).collect::<Vec<_>>(),
+            ),
             ([], Some(path)) => load::from_counts_csv(path),
             ([], None) => load::from_store(&self.db, self.sweep.as_deref()),
             (paths, _) => cellsweep_report::Results::merged(

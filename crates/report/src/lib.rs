@@ -21,6 +21,7 @@ pub mod html;
 pub mod load;
 pub mod planes;
 pub mod plot_files;
+pub mod pool;
 pub mod status;
 pub mod text;
 pub mod whole_file;

@@ -65,7 +65,11 @@ pub fn from_export_with_sweep(path: &Path) -> Result<(Sweep, Results), LoadError
 
 /// Counts, standings, each prep's free speed and provenance of a sweep's finished rows (from
 /// an export file or a store, named `source` in every message).
-fn from_rows(source: &str, sweep: &Sweep, rows: &[ExportRow]) -> Result<Results, LoadError> {
+pub(crate) fn from_rows(
+    source: &str,
+    sweep: &Sweep,
+    rows: &[ExportRow],
+) -> Result<Results, LoadError> {
     // The grid's points, then any its refinement added.
     let axes: Vec<Axes> = rows
         .iter()

@@ -53,18 +53,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
 
     // Export: one row per replicate, each naming the seed its job has in the store.
     let csv = dir.join("adapt.csv");
-    let out = cellsweep(&[
-        "export",
-        "--db",
-        db.to_str().unwrap(),
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::export(&db, &csv);
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     assert!(lines
@@ -123,15 +112,7 @@ fn an_adaptive_sweep_runs_rounds_until_settled_and_matches_the_fixed_sweep() {
     );
     assert!(String::from_utf8_lossy(&imp.stdout).contains("imported 48 results"));
     let csv2 = dir.join("again.csv");
-    assert!(cellsweep(&[
-        "export",
-        "--db",
-        db2.to_str().unwrap(),
-        "--out",
-        csv2.to_str().unwrap()
-    ])
-    .status
-    .success());
+    common::export(&db2, &csv2);
     assert_eq!(std::fs::read_to_string(&csv2).unwrap(), text);
     let imp = cellsweep(&[
         "import",

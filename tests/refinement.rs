@@ -605,18 +605,7 @@ fn pooling_reads_the_runs_an_extension_shares_with_its_sweep_once() {
         drive(&mut store, &ledger, false, usize::MAX);
         drop(store);
         let csv = dir.join(format!("{name}.csv"));
-        let out = common::cellsweep(&[
-            "export",
-            "--db",
-            db.to_str().unwrap(),
-            "--out",
-            csv.to_str().unwrap(),
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::export(&db, &csv);
         csv
     };
     let grid = export("grid", "[10, 14, 18, 22]");

@@ -84,6 +84,18 @@ pub fn cellsweep_env(args: &[&str], envs: &[(&str, String)]) -> std::process::Ou
     command.output().unwrap()
 }
 
+/// `cellsweep export` of the store at `db` into `out`, which must succeed.
+pub fn export(db: &Path, out: &Path) {
+    let o = cellsweep(&[
+        "export",
+        "--db",
+        db.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// The cellsweep binary, run in `dir`.
 pub fn cellsweep_in(dir: &Path, args: &[&str]) -> std::process::Output {
     std::process::Command::new(exe())

@@ -174,16 +174,7 @@ pub fn refined_export(dir: &std::path::Path, name: &str) -> (PathBuf, PathBuf) {
     drive(&mut store, &ledger, false, usize::MAX);
     drop(store);
     let grid_csv = dir.join("grid.csv");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellsweep"))
-        .args(["export", "--db", db.to_str().unwrap(), "--out"])
-        .arg(&grid_csv)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    super::export(&db, &grid_csv);
     // The same rows under the refined sweep's definition (refinement changes no seed).
     let toml = dir.join(format!("{name}.toml"));
     std::fs::write(&toml, sweep_text(name, GRID_BETA, true)).unwrap();

@@ -54,11 +54,11 @@ impl CountsSource {
         use cellsweep_report::load;
         match (self.data.as_slice(), &self.counts) {
             ([path], _) => load::from_export(path),
+            ([], Some(path)) => load::from_counts_csv(path),
+            ([], None) => load::from_store(&self.db, self.sweep.as_deref()),
             (paths, _) if self.pool => cellsweep_report::pool::pooled_exports(
                 &paths.iter().map(|p| p.as_path()).collect::<Vec<_>>(),
             ),
-            ([], Some(path)) => load::from_counts_csv(path),
-            ([], None) => load::from_store(&self.db, self.sweep.as_deref()),
             (paths, _) => cellsweep_report::Results::merged(
                 paths
                     .iter()

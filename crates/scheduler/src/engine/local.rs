@@ -5,24 +5,18 @@
 use cellsweep_store::Store;
 
 use super::{Dispatch, Engine, EngineError, Event, Stock, Target};
-use crate::coordinator::{run_sweep, Ending, Reporter, RunOptions, RunReport};
+use crate::coordinator::{run_sweep, Ending, Reporter, RunOptions};
 use crate::ledger::Ledger;
 
 /// Worker processes on this machine.
 pub struct Local<'r> {
     opts: RunOptions,
     reporter: &'r mut dyn Reporter,
-    /// What the last dispatch's run did (None before, or when nothing was owed).
-    pub report: Option<RunReport>,
 }
 
 impl<'r> Local<'r> {
     pub fn new(opts: RunOptions, reporter: &'r mut dyn Reporter) -> Self {
-        Local {
-            opts,
-            reporter,
-            report: None,
-        }
+        Local { opts, reporter }
     }
 }
 
@@ -58,9 +52,9 @@ impl Engine for Local<'_> {
             self.opts.clone(),
             self.reporter,
         ))?;
-        let interrupted = report.ending == Ending::Interrupted;
-        self.report = Some(report);
-        Ok(Dispatch::Ran { interrupted })
+        Ok(Dispatch::Ran {
+            interrupted: report.ending == Ending::Interrupted,
+        })
     }
 }
 

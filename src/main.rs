@@ -2,7 +2,6 @@
 
 mod cli;
 mod commands;
-mod frames;
 mod output;
 mod progress;
 

@@ -179,3 +179,104 @@ fn completions_and_the_man_page_come_from_the_command_line_definition() {
     assert!(man.contains(".TH cellsweep 1"));
     assert!(man.contains("simulate") && man.contains("export"));
 }
+
+#[test]
+fn bench_reports_rates_that_agree_with_its_own_lattice_sizes() {
+    let out = run(vec![
+        "bench".into(),
+        "--quick".into(),
+        "--no-yardstick".into(),
+        "--json".into(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} missing: {v}"));
+    for k in [
+        "single_steps_per_s",
+        "pair_steps_per_s",
+        "pair_f32_steps_per_s",
+    ] {
+        assert!(f(k).is_finite() && f(k) > 0.0, "{k} = {}", f(k));
+    }
+    // Site updates are steps times the lattice's sites: 200 x 200 for one cell, two cells on
+    // 400 x 200 for the pair; the step time is the rate's inverse.
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    assert!(close(
+        f("single_site_updates_per_s"),
+        f("single_steps_per_s") * 40_000.0
+    ));
+    assert!(close(
+        f("pair_site_updates_per_s"),
+        f("pair_steps_per_s") * 160_000.0
+    ));
+    assert!(close(f("pair_step_s") * f("pair_steps_per_s"), 1.0));
+    assert_eq!(v["threads"], 1);
+    assert!(v.get("trajectory").is_none(), "--quick times no trajectory");
+
+    // A yardstick that cannot run is skipped with its reason, not an error.
+    let out = run(vec![
+        "bench".into(),
+        "--quick".into(),
+        "--python".into(),
+        "/nonexistent/python3".into(),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("NumPy yardstick")
+            && text.contains("skipped: cannot run /nonexistent/python3"),
+        "{text}"
+    );
+}
+
+#[test]
+fn simulate_frames_writes_the_snapshots_it_counts_and_a_gif() {
+    let dir = common::workdir("frames");
+    let frames = dir.join("movie");
+    let out = run(with_small(&[
+        "simulate",
+        "--relax-time",
+        "2",
+        "--free-time",
+        "2",
+        "--collide-time",
+        "6",
+        "--frames",
+        frames.to_str().unwrap(),
+        "--frame-every",
+        "2",
+    ]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let pngs: Vec<_> = std::fs::read_dir(&frames)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    // A snapshot at t = 0, 2, 4 and 6 tau0 (the last at the collision's end).
+    assert_eq!(pngs.len(), 4, "{pngs:?}");
+    assert!(
+        text.contains(&format!("wrote {} snapshots", pngs.len())),
+        "{text}"
+    );
+    let gif = std::fs::read(frames.join("collision.gif")).unwrap();
+    assert!(gif.starts_with(b"GIF89a"));
+
+    // A folder that cannot be made: one line naming it, nothing run.
+    let blocked = dir.join("a-file");
+    std::fs::write(&blocked, "").unwrap();
+    let bad = blocked.join("movie");
+    assert_refused(
+        with_small(&["simulate", "--frames", bad.to_str().unwrap()]),
+        "cannot create",
+    );
+}

@@ -3,7 +3,6 @@
 mod bench;
 mod compare;
 mod converge;
-mod dry_run;
 mod export;
 mod fit;
 mod import;

@@ -1,6 +1,5 @@
 //! `cellsweep run`: register a sweep and run (or resume) it with local worker processes.
 
-use std::path::Path;
 use std::time::Duration;
 
 use anyhow::Context;
@@ -10,10 +9,9 @@ use cellsweep_scheduler::engine::{
 use cellsweep_scheduler::{RunOptions, Sweep, WorkerCommand};
 use cellsweep_solver::SOLVER_VERSION;
 use cellsweep_stats::Standing;
-use cellsweep_store::{NewSweep, Registration, Store};
+use cellsweep_store::Store;
 
-use cellsweep_report::text;
-use cellsweep_report::text::counted;
+use cellsweep_report::{engine_text, text};
 
 use crate::cli::RunArgs;
 use crate::progress::SweepBar;
@@ -25,7 +23,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         usize::from,
     );
     if args.dry_run {
-        super::dry_run::run(&sweep, &args.sweep, &args.db.db, workers)?;
+        let text = cellsweep_report::dry_run::text(&sweep, &args.sweep, &args.db.db, workers)?;
+        print!("{text}");
         return Ok(0);
     }
     let mut session = Session::open(
@@ -39,7 +38,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
             refuse_if_elsewhere: !args.force,
         },
     )?;
-    announce(&sweep, &session.planned, &session.registration, &args.db.db);
+    print!(
+        "{}",
+        engine_text::announcement(&sweep, &session.planned, &session.registration, &args.db.db)
+    );
     if let Some(n) = session.retried {
         println!("retrying {n} failed jobs and preps");
     }
@@ -67,7 +69,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
     crate::on_broken_pipe(crate::OnBrokenPipe::Die);
     let finish = finish.with_context(|| format!("the run on {} stopped", args.db.db.display()))?;
     if let Finish::Done { ran: false, .. } = finish {
-        say_nothing_to_run(&session.store, target)?;
+        if let Some(line) = engine_text::nothing_to_run(&session.store, &sweep.name)? {
+            println!("{line}");
+        }
     }
     let interrupted = finish == Finish::Interrupted;
     summarize(&args, &session.store, target.sweep_id, &sweep, interrupted)?;
@@ -76,98 +80,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<i32> {
         Finish::Done { failed, .. } => failed_exit(failed, &sweep.name, "run"),
         Finish::Sent => 0,
     })
-}
-
-/// What registration did, and the sweep's shape, in a few lines.
-fn announce(sweep: &Sweep, new: &NewSweep, reg: &Registration, db: &Path) {
-    let n_jobs: usize = new.points.iter().map(|p| p.jobs.len()).sum();
-    if let Some(old) = &reg.archived_as {
-        println!(
-            "the previous sweep {:?} keeps its results as {old:?}",
-            sweep.name
-        );
-    }
-    for (version, n) in &reg.other_versions {
-        println!(
-            "note: the store holds {n} results of {:?} from {version}; this run is {SOLVER_VERSION}, \
-             and the two stay apart",
-            sweep.name
-        );
-    }
-    let verb = if reg.created {
-        "registered"
-    } else if reg.grown_from.is_some() {
-        "grew"
-    } else {
-        "resuming"
-    };
-    let shape = if sweep.adaptive.is_some() {
-        format!(
-            "{} x up to {} (adaptive), {} in the first round",
-            counted(new.points.len(), "point"),
-            counted(sweep.replicates as usize, "replicate"),
-            counted(n_jobs, "job")
-        )
-    } else {
-        format!(
-            "{} x {} = {}",
-            counted(new.points.len(), "point"),
-            counted(sweep.replicates as usize, "replicate"),
-            counted(n_jobs, "job")
-        )
-    };
-    println!(
-        "{verb} sweep {:?}: {shape}, {}, in {}",
-        sweep.name,
-        counted(new.preps.len(), "prep"),
-        db.display()
-    );
-    if let Some(a) = &sweep.adaptive {
-        println!(
-            "  adaptive: {} replicates per point first, then {} more per round until the point's \
-             label is settled at error {:?} (or its sign, away from the crossing), at most {}",
-            a.min_replicates, a.batch, a.error, a.max_replicates
-        );
-    }
-    if let Some(r) = &sweep.refine {
-        println!(
-            "  refine: once a column's points are finished, up to {} beta values per round on \
-             multiples of {} inside its 95% interval of beta*, until the interval is at most {} \
-             wide (at most {} values per column)",
-            r.per_round, r.step, r.width, r.max_new_per_column
-        );
-    }
-    if let Some(from) = reg.grown_from {
-        println!(
-            "  from {from} replicates per point: the results already stored are kept, and only the \
-             new replicates run (a replicate's seed depends on its index, not on the count)"
-        );
-    }
-}
-
-/// A sweep with nothing left to run: how far it is, and the way to its failed jobs.
-fn say_nothing_to_run(store: &Store, target: Target<'_>) -> anyhow::Result<()> {
-    let Some(s) = store
-        .status()?
-        .into_iter()
-        .find(|s| s.sweep == target.name && s.solver_version == target.version)
-    else {
-        return Ok(());
-    };
-    let failed = if s.jobs.failed > 0 {
-        format!(
-            " ({} failed: `cellsweep run --retry-failed` runs them again)",
-            s.jobs.failed
-        )
-    } else {
-        String::new()
-    };
-    println!(
-        "{} of {} jobs done{failed}, nothing to run",
-        s.jobs.done,
-        s.jobs.total()
-    );
-    Ok(())
 }
 
 /// The local engine's options: the flags, else the sweep file's `[run]`.
@@ -194,8 +106,8 @@ pub(super) fn failed_exit(failed: u64, name: &str, command: &str) -> i32 {
         return 0;
     }
     eprintln!(
-        "error: {failed} jobs of {name:?} failed after retries; `cellsweep status --failed` lists \
-         them with their errors, `cellsweep {command} --retry-failed` runs them again"
+        "error: {}",
+        engine_text::failed_for_good(failed, name, command)
     );
     1
 }
@@ -234,21 +146,8 @@ fn summarize(
             println!("wrote {}", f.display());
         }
     }
-    if let Some(st) = &loaded.standings {
-        let mut by: std::collections::BTreeMap<&str, usize> = Default::default();
-        for a in st {
-            *by.entry(a.standing.as_str()).or_default() += 1;
-        }
-        let ran: u64 = loaded.counts.iter().map(|c| c.total()).sum();
-        let budget = st.len() as u64 * sweep.replicates as u64;
-        println!(
-            "adaptive: {}; {ran} of {budget} replicates run ({:.0}%)",
-            by.iter()
-                .map(|(k, n)| format!("{n} {k}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            100.0 * ran as f64 / budget.max(1) as f64
-        );
+    if let Some(line) = engine_text::adaptive_standing(&loaded, sweep.replicates) {
+        println!("{line}");
     }
     Ok(())
 }

@@ -1,17 +1,17 @@
 //! `cellsweep simulate`: one whole trajectory, prep and collision.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Context;
+use cellsweep_report::movie::FrameRecorder;
 use cellsweep_solver::{
-    run_trajectory, Collision, Config, Prep, Protocol, Seeds, TrajectoryResult,
+    run_trajectory, Collision, Config, Monitor, Prep, Protocol, Seeds, TrajectoryResult,
 };
 
 use super::model;
-use crate::cli::SimulateArgs;
-use crate::frames::FrameRecorder;
+use crate::cli::{MovieArgs, SimulateArgs};
 use crate::progress::StageBars;
 
 /// Run `f` on a worker of a two-thread pool when `parallel`, so that each step's `rayon::join`
@@ -85,33 +85,44 @@ fn trajectory(
     config: &Config,
     seeds: Seeds,
 ) -> anyhow::Result<(TrajectoryResult, Prep, Option<Collision>)> {
-    Ok(match &args.movie.frames {
+    let (out, written) = watched(&args.movie, args.parallel, |m| {
+        run_trajectory(config, seeds, m, args.parallel)
+    })?;
+    if let Some(dir) = &args.movie.frames {
+        let pngs = written
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "png"));
+        println!(
+            "wrote {} snapshots (PNG) and an animated GIF into {}",
+            pngs.count(),
+            dir.display()
+        );
+    }
+    Ok(out?)
+}
+
+/// Run `f` (on the workers when `parallel`) watched by a progress bar per stage, recording
+/// the movie where `--frames` asks for one; with the files the movie wrote.
+pub(super) fn watched<T: Send>(
+    movie: &MovieArgs,
+    parallel: bool,
+    f: impl FnOnce(&mut dyn Monitor) -> T + Send,
+) -> anyhow::Result<(T, Vec<PathBuf>)> {
+    match &movie.frames {
         Some(dir) => {
-            let mut rec = FrameRecorder::new(dir, args.movie.frame_every)?;
-            let out = on_workers(args.parallel, || {
-                run_trajectory(config, seeds, &mut rec, args.parallel)
-            })??;
+            let mut rec = FrameRecorder::new(dir, movie.frame_every, StageBars::new())?;
+            let out = on_workers(parallel, || f(&mut rec))?;
+            rec.inner.finish();
             rec.finish()?;
-            let pngs = rec
-                .written
-                .iter()
-                .filter(|p| p.extension().is_some_and(|e| e == "png"));
-            println!(
-                "wrote {} snapshots (PNG) and an animated GIF into {}",
-                pngs.count(),
-                dir.display()
-            );
-            out
+            Ok((out, rec.written))
         }
         None => {
             let mut bars = StageBars::new();
-            let out = on_workers(args.parallel, || {
-                run_trajectory(config, seeds, &mut bars, args.parallel)
-            })??;
+            let out = on_workers(parallel, || f(&mut bars))?;
             bars.finish();
-            out
+            Ok((out, Vec::new()))
         }
-    })
+    }
 }
 
 /// The collision's observables, one JSON object per sample.

@@ -1,6 +1,7 @@
 //! `cellsweep submit --backend slurm` and `cellsweep collect`.
 
 use anyhow::Context;
+use cellsweep_report::engine_text;
 use cellsweep_scheduler::engine::{
     drive, DriveOptions, EngineError, Event, Finish, Session, SessionOptions, SlurmArrays, Target,
 };
@@ -29,11 +30,8 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
             refuse_if_elsewhere: false,
         },
     )?;
-    if let Some(from) = session.registration.grown_from {
-        println!(
-            "sweep {:?} grew from {from} to {} replicates per point; the results already stored are kept",
-            sweep.name, sweep.replicates
-        );
+    if let Some(line) = engine_text::submit_opening(&sweep, &session.registration) {
+        println!("{line}");
     }
     if let Some(n) = session.retried {
         println!("retrying {n} failed jobs and preps");
@@ -55,92 +53,24 @@ pub fn submit(args: SubmitArgs) -> anyhow::Result<i32> {
         },
         &mut |e| print_event(&e, &sweep.name, max_attempts),
     )?;
+    if let Some(line) = engine_text::submit_ending(finish, &sweep, &args.db.db) {
+        println!("{line}");
+    }
     Ok(match finish {
-        Finish::Done { failed, .. } if failed > 0 => {
-            println!(
-                "nothing to submit: every job of {:?} has a result or failed for good",
-                sweep.name
-            );
-            super::run::failed_exit(failed, &sweep.name, "submit")
-        }
-        Finish::Done { .. } => {
-            println!(
-                "nothing to submit: every job of {:?} has a result{}",
-                sweep.name,
-                match (sweep.adaptive.is_some(), sweep.refine.is_some()) {
-                    (_, true) =>
-                        ", every point is settled and every column refined as far as its rule goes",
-                    (true, false) => " and every point is settled or at its budget",
-                    (false, false) => "",
-                }
-            );
-            0
-        }
-        Finish::Sent => {
-            println!(
-                "when they are done: cellsweep collect --db {}{}",
-                args.db.db.display(),
-                if sweep.adaptive.is_some() || sweep.refine.is_some() {
-                    ", then submit again for the next round (or submit --watch)"
-                } else {
-                    ""
-                }
-            );
-            0
-        }
+        Finish::Done { failed, .. } => super::run::failed_exit(failed, &sweep.name, "submit"),
+        Finish::Sent => 0,
         Finish::Interrupted => 130,
     })
 }
 
-/// What the Slurm engine tells, as the user reads it.
+/// What the engine tells, as the user reads it.
 fn print_event(e: &Event<'_>, name: &str, max_attempts: u32) {
-    match e {
-        Event::FoundAgain { arrays } => println!(
-            "found again {arrays} array(s) of {name:?} that a stop had left recorded without their Slurm id"
-        ),
-        Event::Collected { dir, collected: c } => {
-            for p in &c.problems {
-                eprintln!("warning: {p}");
-            }
-            println!(
-                "collected {name:?} from {dir}: {} preps and {} results new, {} already in the store, {} failed attempts recorded",
-                c.preps, c.results, c.already, c.failures
-            );
-            if c.planned > 0 {
-                println!(
-                    "  planned the next round: {} more jobs (adaptive replicates, refined points)",
-                    c.planned
-                );
-            }
-        }
-        Event::EndedWithoutResult { kind: k } => println!(
-            "  {} {} ended without a result ({}): a failed attempt each; {}: {}",
-            k.count,
-            if k.count == 1 { "job or prep" } else { "jobs or preps" },
-            k.kind,
-            if k.count == 1 { "the reason" } else { "the first" },
-            k.example
-        ),
-        Event::OutOfAttempts { count, .. } => println!(
-            "{count} preps and jobs are out of attempts ({max_attempts}) or need a prep that is: failed for good"
-        ),
-        Event::Submitted(sub) => {
-            println!(
-                "submitted {name:?}: {} preps in {} array tasks, {} collisions in {} array tasks ({} per task); run directory {}",
-                sub.preps, sub.prep_tasks, sub.jobs, sub.collide_tasks, sub.jobs_per_task, sub.sub_dir.display()
-            );
-            for (kind, id) in &sub.slurm_ids {
-                println!("  {kind}: Slurm job {id}");
-            }
-        }
-        Event::Retrying {
-            error,
-            wait,
-            failures,
-            give_up_after,
-        } => eprintln!(
-            "warning: {error}; trying again in {wait:.1} s (failure {failures}; the watch gives up after {give_up_after} s of failures)"
-        ),
+    let said = engine_text::event(e, name, max_attempts);
+    for w in said.warnings {
+        eprintln!("warning: {w}");
+    }
+    for line in said.lines {
+        println!("{line}");
     }
 }
 

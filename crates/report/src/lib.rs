@@ -11,18 +11,24 @@
 //! [`figures`] turns counts into the drawings of `cellsweep-plot`.
 
 pub mod analysis;
+pub mod bench;
 pub mod claims;
 pub mod collapse;
 pub mod collection;
 pub mod compare;
 pub mod converge;
+pub mod dry_run;
+pub mod engine_text;
 pub mod figures;
+pub mod fitted_line;
 pub mod html;
 pub mod load;
+pub mod movie;
 pub mod planes;
 pub mod plot_files;
 pub mod pool;
 pub mod status;
+pub mod table;
 pub mod text;
 pub mod whole_file;
 

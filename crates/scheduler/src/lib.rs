@@ -25,6 +25,7 @@ pub mod pool;
 pub mod refinement;
 pub mod replay;
 pub mod reserve;
+pub mod reset;
 pub mod run_dir;
 pub mod slurm;
 pub mod slurm_syntax;

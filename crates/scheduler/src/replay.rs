@@ -56,6 +56,58 @@ impl Replayed {
     pub fn agrees(&self) -> bool {
         self.differences.iter().all(|d| d.round_off)
     }
+
+    /// What the replay says, in lines: `identical`, `identical to round-off` with the speeds
+    /// a few ulps off, or each field that differs with both values.
+    pub fn verdict_lines(&self) -> Vec<String> {
+        if self.differences.is_empty() {
+            return vec!["identical".to_string()];
+        }
+        let mut lines: Vec<String> = self
+            .differences
+            .iter()
+            .map(|d| {
+                let kind = if d.round_off { "round-off" } else { "differs" };
+                format!(
+                    "{kind}: {}: stored {}, replayed {}",
+                    d.field, d.stored, d.replayed
+                )
+            })
+            .collect();
+        if self.agrees() {
+            lines.push(
+                "identical to round-off (a speed an ulp off: stored before floats crossed JSON \
+                 exactly)"
+                    .to_string(),
+            );
+        }
+        lines
+    }
+
+    /// The stored row and the replay side by side: verdict / outcome, contact and decision
+    /// times, collision steps.
+    pub fn side_by_side(&self, row: &ExportRow) -> [String; 2] {
+        let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x}"));
+        let r = &self.result;
+        [
+            format!(
+                "  stored   {} / {}, contact {}, decision {}, {} steps",
+                row.verdict,
+                row.outcome.as_deref().unwrap_or("-"),
+                opt(row.contact_time),
+                opt(row.decision_time),
+                row.collision_steps
+            ),
+            format!(
+                "  replayed {} / {}, contact {}, decision {}, {} steps",
+                r.verdict.as_str(),
+                r.outcome.map_or("-", |o| o.as_str()),
+                opt(r.contact_time),
+                opt(r.decision_time),
+                r.collision_steps
+            ),
+        ]
+    }
 }
 
 /// A row replayed.
@@ -260,6 +312,8 @@ pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<
 #[derive(Debug, Error)]
 pub enum FindRowError {
     #[error(transparent)]
+    Selector(#[from] cellsweep_stats::SelectError),
+    #[error(transparent)]
     Axes(#[from] crate::sweep::RowAxesError),
     #[error("no finished replicate of sweep {sweep:?} is at that point")]
     NoPoint { sweep: String },
@@ -269,13 +323,18 @@ pub enum FindRowError {
     NoReplicate { replicate: u32, finished: usize },
 }
 
-/// The row of `replicate` at the one point of `sweep` that `selector` picks among `rows`.
+/// The row of `replicate` at the one point of `sweep` that `point` (`alpha=0.1,beta=46`, any
+/// axis of the sweep) picks among `rows`.
 pub fn find_row<'a>(
     sweep: &Sweep,
     rows: &'a [ExportRow],
-    selector: &cellsweep_stats::Selector,
+    point: &str,
     replicate: u32,
 ) -> Result<&'a ExportRow, FindRowError> {
+    let mut axes = vec!["alpha", "beta", "L", "sigma"];
+    axes.extend(sweep.grid.others.iter().map(|a| a.name.as_str()));
+    let selector = cellsweep_stats::Selector::parse(point)?;
+    selector.check_axes(&axes, &format!("sweep {:?}", sweep.name))?;
     let mut at = Vec::new();
     for r in rows {
         let axes = sweep.axes_of_row(r)?;
@@ -303,6 +362,35 @@ pub fn find_row<'a>(
             some: points[..count.min(4)].join("; "),
         }),
     }
+}
+
+/// The rows `cellsweep verify` replays from `sets` (each sweep with its rows): those that
+/// ended as one of `ended` (every row where it is empty), then all of them (`sample` None) or
+/// `n` of them shuffled with `seed` (`sample` Some((n, seed))); and how many there were to
+/// choose from.
+pub fn choose_rows<'a>(
+    sets: &'a [(Sweep, Vec<ExportRow>)],
+    ended: &[cellsweep_stats::End],
+    sample: Option<(usize, u64)>,
+) -> (Vec<(&'a Sweep, &'a ExportRow)>, usize) {
+    use rand::seq::SliceRandom;
+    use rand::SeedableRng;
+    let mut chosen: Vec<(&Sweep, &ExportRow)> = sets
+        .iter()
+        .flat_map(|(sweep, rows)| rows.iter().map(move |r| (sweep, r)))
+        .filter(|(_, r)| {
+            ended.is_empty()
+                || cellsweep_stats::End::of(&r.verdict, r.outcome.as_deref())
+                    .is_some_and(|e| ended.contains(&e))
+        })
+        .collect();
+    let total = chosen.len();
+    if let Some((n, seed)) = sample {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        chosen.shuffle(&mut rng);
+        chosen.truncate(n.max(1));
+    }
+    (chosen, total)
 }
 
 /// One line naming a row: its point and replicate.

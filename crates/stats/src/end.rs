@@ -59,6 +59,14 @@ impl End {
         }
     }
 
+    /// From its [`End::name`]; the error lists every name.
+    pub fn parse(name: &str) -> Result<End, UnknownEnd> {
+        End::ALL
+            .into_iter()
+            .find(|e| e.name() == name)
+            .ok_or_else(|| UnknownEnd(name.to_string()))
+    }
+
     /// The column of its count in tables, counts files and comparisons (`n_walk`).
     pub fn count_key(self) -> &'static str {
         match self {
@@ -181,6 +189,11 @@ impl End {
         }
     }
 }
+
+/// A name that is no [`End`]'s.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?}: not one of {names}", names = End::ALL.map(End::name).join(", "))]
+pub struct UnknownEnd(pub String);
 
 /// One value per [`End`], indexed by the end.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -92,32 +92,43 @@ impl Store {
             .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
             .collect::<rusqlite::Result<_>>()?;
         for (sweep_id, name, version) in pairs {
-            let jobs = self.state_counts(sweep_id, &version, None)?;
-            let outcomes = self.outcome_counts(sweep_id, &version, None)?;
-            let (preps_done, preps_total) = self.prep_counts(sweep_id, &version)?;
-            let last = self.last_finished(sweep_id, &version)?;
-            let jobs_per_s = match last {
-                Some(last) => throughput::jobs_per_s(&self.recent_spans(
-                    sweep_id,
-                    &version,
-                    last - WINDOW_S,
-                )?),
-                None => None,
-            };
-            let remaining = (jobs.pending + jobs.running) as f64;
-            out.push(SweepStatus {
-                sweep: name,
-                solver_version: version,
-                eta_s: throughput::eta_s(remaining, jobs_per_s),
-                jobs,
-                outcomes,
-                preps_done,
-                preps_total,
-                jobs_per_s,
-                last_finished: last,
-            });
+            out.push(self.status_of(sweep_id, name, version)?);
         }
         Ok(out)
+    }
+
+    /// Progress of one sweep under solver `version`, or None where it has no job of that
+    /// version (or is not registered).
+    pub fn sweep_status(&self, name: &str, version: &str) -> Result<Option<SweepStatus>> {
+        Ok(self
+            .status()?
+            .into_iter()
+            .find(|s| s.sweep == name && s.solver_version == version))
+    }
+
+    fn status_of(&self, sweep_id: i64, name: String, version: String) -> Result<SweepStatus> {
+        let jobs = self.state_counts(sweep_id, &version, None)?;
+        let outcomes = self.outcome_counts(sweep_id, &version, None)?;
+        let (preps_done, preps_total) = self.prep_counts(sweep_id, &version)?;
+        let last = self.last_finished(sweep_id, &version)?;
+        let jobs_per_s = match last {
+            Some(last) => {
+                throughput::jobs_per_s(&self.recent_spans(sweep_id, &version, last - WINDOW_S)?)
+            }
+            None => None,
+        };
+        let remaining = (jobs.pending + jobs.running) as f64;
+        Ok(SweepStatus {
+            sweep: name,
+            solver_version: version,
+            eta_s: throughput::eta_s(remaining, jobs_per_s),
+            jobs,
+            outcomes,
+            preps_done,
+            preps_total,
+            jobs_per_s,
+            last_finished: last,
+        })
     }
 
     fn state_counts(

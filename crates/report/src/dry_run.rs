@@ -1,12 +1,24 @@
-//! `cellsweep run --dry-run`: what a sweep is and what it would cost, writing nothing.
+//! What `cellsweep run --dry-run` says: what a sweep is, what the store already holds of it,
+//! and what running it now would cost, writing nothing ([`text`]).
 
+use std::fmt::Write;
 use std::path::Path;
 
-use cellsweep_report::text::counted;
 use cellsweep_scheduler::cost::{unit_costs, CostBasis, UnitCosts};
-use cellsweep_scheduler::{plan, Sweep};
+use cellsweep_scheduler::{plan, Ledger, RunError, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::Store;
+use cellsweep_store::{Store, StoreError};
+
+use crate::text::counted;
+
+/// Why a dry run could not read the store.
+#[derive(Debug, thiserror::Error)]
+pub enum DryRunError {
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    #[error(transparent)]
+    Ledger(#[from] RunError),
+}
 
 fn hours(s: f64) -> String {
     if s < 3600.0 {
@@ -16,14 +28,22 @@ fn hours(s: f64) -> String {
     }
 }
 
-pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::Result<()> {
+/// The dry run of `sweep` (read from `source`) against the store at `db` (which need not
+/// exist), with `workers` workers.
+pub fn text(
+    sweep: &Sweep,
+    source: &Path,
+    db: &Path,
+    workers: usize,
+) -> Result<String, DryRunError> {
     let new = plan(sweep, &source.display().to_string());
     let points = new.points.len();
     let first: usize = new.points.iter().map(|p| p.jobs.len()).sum();
     let budget = points * sweep.replicates as usize;
-    println!("dry run of {:?} (nothing is written):", sweep.name);
-    match &sweep.adaptive {
-        Some(a) => println!(
+    let mut out = format!("dry run of {:?} (nothing is written):\n", sweep.name);
+    let _ = match &sweep.adaptive {
+        Some(a) => writeln!(
+            out,
             "  {points} points, {} preps; adaptive: {} replicates per point first, {} more per \
              round until settled (error {:?}), at most {}: {first} jobs in the first round, at most \
              {budget}",
@@ -33,17 +53,19 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
             a.error,
             a.max_replicates
         ),
-        None => println!(
+        None => writeln!(
+            out,
             "  {} x {} = {}, {}",
             counted(points, "point"),
             counted(sweep.replicates as usize, "replicate"),
             counted(budget, "job"),
             counted(new.preps.len(), "prep")
         ),
-    }
+    };
     if let Some(r) = &sweep.refine {
         let most = sweep.max_added_points();
-        println!(
+        let _ = writeln!(
+            out,
             "  refine: up to {} beta values per column ({most} points, at most {} more jobs and \
              {most} more preps), added in rounds of {} once a column is finished, until its \
              interval of beta* is at most {} wide",
@@ -53,21 +75,25 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
             r.width
         );
         if let (Some(to), Some(spacing)) = (r.extend_to, r.extend_step) {
-            println!(
+            let _ = writeln!(
+                out,
                 "  extension: a column open at its top (no crossing below the grid's last beta) \
                  takes values {spacing} apart above it, up to beta {to}"
             );
         }
     }
-    let store = if db.exists() {
-        Some(Store::open_read(db)?)
-    } else {
-        None
+    let store = match db.exists() {
+        true => Some(Store::open_read(db)?),
+        false => None,
     };
     let (jobs_left, preps_left) = match &store {
-        Some(store) => left_in_store(store, sweep, db)?,
+        Some(store) => left_in_store(&mut out, store, sweep, db)?,
         None => {
-            println!("  {} does not exist: it would be created", db.display());
+            let _ = writeln!(
+                out,
+                "  {} does not exist: it would be created",
+                db.display()
+            );
             None
         }
     }
@@ -83,8 +109,12 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
     } = unit_costs(sweep, measured);
     let how = basis_words(&basis);
     let total = preps_left.max(0) as f64 * prep_s + jobs_left.max(0) as f64 * collision_s;
-    println!("  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})");
-    println!(
+    let _ = writeln!(
+        out,
+        "  cost: {prep_s:.1} s per prep, {collision_s:.1} s per collision ({how})"
+    );
+    let _ = writeln!(
+        out,
         "  to run now: {} and {}{}: {:.2} core-hours, about {} on {}",
         counted(preps_left.max(0) as usize, "prep"),
         counted(jobs_left.max(0) as usize, "collision"),
@@ -99,13 +129,14 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
     );
     if let (Some(rule), Some(store)) = (&sweep.refine, &store) {
         if let Ok(id) = store.sweep_id(&sweep.name) {
-            let ledger = cellsweep_scheduler::Ledger::load(store, id, SOLVER_VERSION)?;
+            let ledger = Ledger::load(store, id, SOLVER_VERSION)?;
             let columns = ledger.refine_standing(store, rule)?;
-            let (lines, next) = cellsweep_report::status::refinement::lines(&columns, rule, "    ");
-            println!("  refine now: {}", lines.join("\n"));
+            let (lines, next) = crate::status::refinement::lines(&columns, rule, "    ");
+            let _ = writeln!(out, "  refine now: {}", lines.join("\n"));
             let jobs = next.values as f64 * f64::from(sweep.initial_replicates());
             let cost = next.values as f64 * prep_s + jobs * collision_s;
-            println!(
+            let _ = writeln!(
+                out,
                 "  the next round of refinement: {} new points, {jobs} collisions in their first \
                  round and {} preps: {:.2} core-hours (their adaptive rounds follow)",
                 next.values,
@@ -113,25 +144,27 @@ pub fn run(sweep: &Sweep, source: &Path, db: &Path, workers: usize) -> anyhow::R
                 cost / 3600.0
             );
             for column in &next.list {
-                println!("    {column}");
+                let _ = writeln!(out, "    {column}");
             }
         }
     }
-    Ok(())
+    Ok(out)
 }
 
-/// What the store holds of the sweep, printed: the jobs and preps left to run, or None if it
-/// is not registered there.
-fn left_in_store(store: &Store, sweep: &Sweep, db: &Path) -> anyhow::Result<Option<(i64, i64)>> {
-    let Some(s) = store
-        .status()?
-        .into_iter()
-        .find(|s| s.sweep == sweep.name && s.solver_version == SOLVER_VERSION)
-    else {
-        println!("  not registered in {} yet", db.display());
+/// What the store holds of the sweep, written to `out`: the jobs and preps left to run, or
+/// None if it is not registered there.
+fn left_in_store(
+    out: &mut String,
+    store: &Store,
+    sweep: &Sweep,
+    db: &Path,
+) -> Result<Option<(i64, i64)>, StoreError> {
+    let Some(s) = store.sweep_status(&sweep.name, SOLVER_VERSION)? else {
+        let _ = writeln!(out, "  not registered in {} yet", db.display());
         return Ok(None);
     };
-    println!(
+    let _ = writeln!(
+        out,
         "  in {}: {} done, {} pending, {} running, {} failed; {} of {} done",
         db.display(),
         counted(s.jobs.done as usize, "job"),

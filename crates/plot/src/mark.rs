@@ -1,49 +1,27 @@
-//! The paper's symbols for a point's outcome, and how each is drawn.
+//! The paper's symbol of each [`Label`] of a point (star walk-past, cross training, plus
+//! reversal, dot unstable, diamond breakup, star over cross for coexistence), and how each is
+//! drawn and named in a legend.
+
+pub use cellsweep_stats::Label;
 
 use crate::figure::{Anchor, Color, Figure, Shape};
 
-/// The symbol of a point (the paper's: star walk-past, cross training, plus reversal, dot
-/// unstable, diamond breakup, star over cross for coexistence).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mark {
-    WalkPast,
-    Train,
-    Reversal,
-    Coexist,
-    Unstable,
-    Breakup,
-    Undetermined,
-    Mixed,
-}
-
-impl Mark {
-    pub const ALL: [Mark; 8] = [
-        Mark::WalkPast,
-        Mark::Train,
-        Mark::Reversal,
-        Mark::Coexist,
-        Mark::Unstable,
-        Mark::Breakup,
-        Mark::Undetermined,
-        Mark::Mixed,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Mark::WalkPast => "walk-past",
-            Mark::Train => "training",
-            Mark::Reversal => "reversal",
-            Mark::Coexist => "coexistence",
-            Mark::Unstable => "unstable",
-            Mark::Breakup => "breakup",
-            Mark::Undetermined => "undetermined",
-            Mark::Mixed => "mixed",
-        }
+/// A label's name in a figure's legend.
+pub fn name(label: Label) -> &'static str {
+    match label {
+        Label::WalkPast => "walk-past",
+        Label::Train => "training",
+        Label::Reversal => "reversal",
+        Label::Coexist => "coexistence",
+        Label::Unstable => "unstable",
+        Label::Breakup => "breakup",
+        Label::Undetermined => "undetermined",
+        Label::Mixed => "mixed",
     }
 }
 
 /// Draw a symbol centred at (x, y) with radius r.
-pub fn draw_mark(fig: &mut Figure, mark: Mark, x: f64, y: f64, r: f64) {
+pub fn draw_mark(fig: &mut Figure, label: Label, x: f64, y: f64, r: f64) {
     let star = |fig: &mut Figure| {
         let pts: Vec<(f64, f64)> = (0..10)
             .map(|k| {
@@ -63,31 +41,31 @@ pub fn draw_mark(fig: &mut Figure, mark: Mark, x: f64, y: f64, r: f64) {
         fig.line(x - d, y - d, x + d, y + d, c, 2.5);
         fig.line(x - d, y + d, x + d, y - d, c, 2.5);
     };
-    match mark {
-        Mark::WalkPast => star(fig),
-        Mark::Train => cross(fig, Color::BLUE),
-        Mark::Reversal => {
+    match label {
+        Label::WalkPast => star(fig),
+        Label::Train => cross(fig, Color::BLUE),
+        Label::Reversal => {
             fig.line(x - r, y, x + r, y, Color::GREEN, 2.5);
             fig.line(x, y - r, x, y + r, Color::GREEN, 2.5);
         }
-        Mark::Coexist => {
+        Label::Coexist => {
             star(fig);
             cross(fig, Color::BLUE);
         }
-        Mark::Unstable => fig.push(Shape::Circle {
+        Label::Unstable => fig.push(Shape::Circle {
             cx: x,
             cy: y,
             r: r * 0.4,
             fill: Some(Color::BLUE),
             stroke: None,
         }),
-        Mark::Breakup => fig.push(Shape::Polygon {
+        Label::Breakup => fig.push(Shape::Polygon {
             points: vec![(x, y - r), (x + r * 0.7, y), (x, y + r), (x - r * 0.7, y)],
             fill: None,
             stroke: Some(Color::CYAN),
         }),
-        Mark::Undetermined => fig.text(x, y + 5.0, 16.0, Anchor::Middle, "?"),
-        Mark::Mixed => fig.push(Shape::Circle {
+        Label::Undetermined => fig.text(x, y + 5.0, 16.0, Anchor::Middle, "?"),
+        Label::Mixed => fig.push(Shape::Circle {
             cx: x,
             cy: y,
             r: r * 0.5,

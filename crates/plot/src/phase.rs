@@ -1,9 +1,9 @@
 //! Phase diagrams as in the paper's figures: (a) the dominant outcome of each point with the
-//! paper's symbols ([`Mark`]), (b)-(d) heat maps of the train, walk-past and reversal
+//! paper's symbols ([`Label`] drawn by [`draw_mark`]), (b)-(d) heat maps of the train, walk-past and reversal
 //! frequencies, with beta_crit lines dashed.
 
 use crate::figure::{viridis, Anchor, Color, Figure, Shape};
-use crate::mark::{draw_mark, Mark};
+use crate::mark::{self, draw_mark, Label};
 use crate::panel::{axis, clip, span, text_width, Panel};
 
 /// One grid point of a diagram.
@@ -12,7 +12,7 @@ pub struct Point {
     /// Its place across (alpha in the paper's diagrams) and up (beta).
     pub x: f64,
     pub y: f64,
-    pub mark: Option<Mark>,
+    pub mark: Option<Label>,
     /// Frequencies of train, walk-past, reversal (NaN where no collision ran).
     pub freq: [f64; 3],
     /// Replicates with a result.
@@ -275,11 +275,11 @@ fn box_round(fig: &mut Figure, x: f64, y: f64, r: f64) {
 /// second row; a third explains n.
 fn legend(fig: &mut Figure, d: &Diagram, y: f64) {
     let mut x = 70.0;
-    for m in Mark::ALL {
+    for m in Label::ALL {
         if d.points.iter().any(|p| p.mark == Some(m)) {
             draw_mark(fig, m, x, y - 5.0, 9.0);
-            fig.text(x + 14.0, y, 12.0, Anchor::Start, m.name());
-            x += 34.0 + text_width(m.name(), 12.0);
+            fig.text(x + 14.0, y, 12.0, Anchor::Start, mark::name(m));
+            x += 34.0 + text_width(mark::name(m), 12.0);
         }
     }
     if d.points.iter().any(|p| p.boxed) {

@@ -1,13 +1,13 @@
 //! The pictures are valid SVG, PNG and GIF files with the expected elements.
 
 use cellsweep_plot::frames::{figure, Snapshot};
-use cellsweep_plot::mark::Mark;
+use cellsweep_plot::mark::Label;
 use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::{gif, Color};
 
 fn diagram() -> Diagram {
     let mut points = Vec::new();
-    for (k, mark) in Mark::ALL.into_iter().enumerate() {
+    for (k, mark) in Label::ALL.into_iter().enumerate() {
         points.push(Point {
             x: 0.1 + 0.02 * (k % 4) as f64,
             y: 10.0 + 4.0 * (k / 4) as f64,
@@ -141,7 +141,7 @@ fn snapshots_render_and_animate() {
 /// (a live page's diagram before its first results; issue 50, 6).
 #[test]
 fn the_legend_names_grey_cells_for_what_they_are() {
-    let grey = |mark: Option<Mark>| Point {
+    let grey = |mark: Option<Label>| Point {
         x: 0.1,
         y: 10.0,
         mark,
@@ -163,10 +163,10 @@ fn the_legend_names_grey_cells_for_what_they_are() {
     let waiting = with(vec![grey(None)]);
     assert!(waiting.contains(">not run yet</text>"), "{waiting}");
     assert!(!waiting.contains("prep unstable"));
-    let decided = with(vec![grey(Some(Mark::Unstable))]);
+    let decided = with(vec![grey(Some(Label::Unstable))]);
     assert!(decided.contains("no collision (prep unstable or broke up)"));
     assert!(!decided.contains("not run yet"));
-    let both = with(vec![grey(Some(Mark::Breakup)), grey(None)]);
+    let both = with(vec![grey(Some(Label::Breakup)), grey(None)]);
     assert!(both.contains("or not run yet"));
 }
 
@@ -179,7 +179,7 @@ fn refined_columns_keep_the_beta_axis_to_the_grid() {
     let mark = |x: f64, y: f64| Point {
         x,
         y,
-        mark: Some(Mark::Train),
+        mark: Some(Label::Train),
         freq: [1.0, 0.0, 0.0],
         n: 16,
         open: false,

@@ -1,31 +1,17 @@
 //! Counts into drawings: one (L, sigma) phase diagram with its four panels, and the free speed
 //! against beta. `cellsweep plot` writes them as files, `cellsweep report` inline.
 
-use cellsweep_plot::mark::Mark;
 use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::speed::{speed_figure, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
 use cellsweep_stats::{
-    wilson, Assessment, Counts, End, Fit, Label, Plane, PlaneError, Scales, Standing,
+    wilson, Assessment, Counts, End, Fit, Plane, PlaneError, Scales, Standing,
 };
 
 use crate::collection::DiagramKey;
 use crate::Results;
 
-/// The plot symbol of a label.
-pub fn mark(l: Label) -> Mark {
-    match l {
-        Label::Train => Mark::Train,
-        Label::WalkPast => Mark::WalkPast,
-        Label::Reversal => Mark::Reversal,
-        Label::Coexist => Mark::Coexist,
-        Label::Unstable => Mark::Unstable,
-        Label::Breakup => Mark::Breakup,
-        Label::Undetermined => Mark::Undetermined,
-        Label::Mixed => Mark::Mixed,
-    }
-}
 
 /// beta = a x(alpha) + b as a line in the (alpha, beta) plane of diagram (L, sigma).
 pub fn beta_line(
@@ -126,7 +112,7 @@ fn point(results: &Results, i: usize, x: f64, y: f64) -> Point {
     Point {
         x,
         y,
-        mark: c.label().map(mark),
+        mark: c.label(),
         freq: [f(c.n_train()), f(c.n_walk()), f(c.tally[End::Reversal])],
         n: c.total(),
         open: a.is_some_and(|a| a.standing == Standing::Open),

@@ -5,13 +5,10 @@ use cellsweep_plot::phase::{diagram_figure, BetaLine, Diagram, Point};
 use cellsweep_plot::speed::{speed_figure, Series};
 use cellsweep_plot::{Color, Figure};
 use cellsweep_stats::fit::{PAPER_A, PAPER_B};
-use cellsweep_stats::{
-    wilson, Assessment, Counts, End, Fit, Plane, PlaneError, Scales, Standing,
-};
+use cellsweep_stats::{wilson, Assessment, Counts, End, Fit, Plane, PlaneError, Scales, Standing};
 
 use crate::collection::DiagramKey;
 use crate::Results;
-
 
 /// beta = a x(alpha) + b as a line in the (alpha, beta) plane of diagram (L, sigma).
 pub fn beta_line(

@@ -52,13 +52,12 @@ impl Store {
                  WHERE j.id = ?1",
             )?
             .query_row([id], |r| {
-                let state: String = r.get(4)?;
                 Ok(JobIdentity {
                     sweep_id: r.get(0)?,
                     solver_version: r.get(1)?,
                     seed: seed_from_sql(r.get(2)?),
                     prep_id: r.get(3)?,
-                    state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                    state: r.get(4)?,
                     config: r.get(5)?,
                     prep_verdict: r.get(6)?,
                 })
@@ -77,11 +76,10 @@ impl Store {
                  FROM preps WHERE id = ?1",
             )?
             .query_row(params![id, sweep_id], |r| {
-                let state: String = r.get(2)?;
                 Ok(PrepIdentity {
                     seed: seed_from_sql(r.get(0)?),
                     solver_version: r.get(1)?,
-                    state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                    state: r.get(2)?,
                     config: r.get(3)?,
                     used_by_sweep: r.get(4)?,
                 })

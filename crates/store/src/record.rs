@@ -7,6 +7,7 @@ use rusqlite::{params, Connection};
 use crate::database::Store;
 use crate::encoding::{bytes_to_f64s, f64s_to_bytes, now};
 use crate::error::Result;
+use crate::lifecycle::JobState::{Done, Failed, Pending, Running};
 
 /// A finished prep, as stored.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,10 +52,10 @@ impl Store {
         let t = now();
         let n = tx
             .prepare_cached(
-                "UPDATE jobs SET state = 'done', finished_at = ?2, error = NULL
-                 WHERE id = ?1 AND state IN ('pending', 'running', 'failed') AND solver_version = ?3",
+                "UPDATE jobs SET state = ?4, finished_at = ?2, error = NULL
+                 WHERE id = ?1 AND state IN (?5, ?6, ?7) AND solver_version = ?3",
             )?
-            .execute(params![job_id, t, version])?;
+            .execute(params![job_id, t, version, Done, Pending, Running, Failed])?;
         if n == 0 {
             return Ok(false);
         }
@@ -67,10 +68,10 @@ impl Store {
     /// guarded UPDATE; a prep already done is left alone. Returns whether it was new.
     pub fn record_prep(&mut self, prep_id: i64, r: &PrepRecord) -> Result<bool> {
         let n = self.conn.execute(
-            "UPDATE preps SET state = 'done', error = NULL, verdict = ?2, verdict_time = ?3,
+            "UPDATE preps SET state = ?12, error = NULL, verdict = ?2, verdict_time = ?3,
                  free_speed = ?4, nx = ?5, ny = ?6, phi = ?7, p = ?8, summary = ?9, wall_s = ?10,
                  finished_at = ?11
-             WHERE id = ?1 AND state IN ('pending', 'running', 'failed')",
+             WHERE id = ?1 AND state IN (?13, ?14, ?15)",
             params![
                 prep_id,
                 r.verdict,
@@ -82,7 +83,11 @@ impl Store {
                 f64s_to_bytes(&r.p),
                 r.summary,
                 r.wall_s,
-                now()
+                now(),
+                Done,
+                Pending,
+                Running,
+                Failed
             ],
         )?;
         Ok(n == 1)
@@ -92,8 +97,8 @@ impl Store {
     pub fn load_prep(&self, prep_id: i64) -> Result<PrepRecord> {
         Ok(self.conn.query_row(
             "SELECT verdict, verdict_time, free_speed, nx, ny, phi, p, summary, wall_s
-             FROM preps WHERE id = ?1 AND state = 'done'",
-            [prep_id],
+             FROM preps WHERE id = ?1 AND state = ?2",
+            params![prep_id, Done],
             |r| {
                 Ok(PrepRecord {
                     verdict: r.get(0)?,
@@ -124,15 +129,15 @@ impl Store {
         let ids: Vec<i64> = {
             let mut q = tx.prepare(
                 "SELECT j.id FROM jobs j JOIN points p ON p.id = j.point_id
-                 WHERE p.sweep_id = ?1 AND j.prep_id = ?2 AND j.solver_version = ?3 AND j.state = 'pending'",
+                 WHERE p.sweep_id = ?1 AND j.prep_id = ?2 AND j.solver_version = ?3 AND j.state = ?4",
             )?;
-            let rows = q.query_map(params![sweep_id, prep_id, version], |r| r.get(0))?;
+            let rows = q.query_map(params![sweep_id, prep_id, version, Pending], |r| r.get(0))?;
             rows.collect::<rusqlite::Result<Vec<_>>>()?
         };
         let t = now();
         for &id in &ids {
-            tx.prepare_cached("UPDATE jobs SET state = 'done', finished_at = ?2 WHERE id = ?1")?
-                .execute(params![id, t])?;
+            tx.prepare_cached("UPDATE jobs SET state = ?3, finished_at = ?2 WHERE id = ?1")?
+                .execute(params![id, t, Done])?;
             insert_result(&tx, id, version, r, t)?;
         }
         tx.commit()?;

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::database::Store;
 use crate::error::Result;
+use crate::lifecycle::JobState::Pending;
 
 /// A registered point: its row id and the four swept parameters.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -60,8 +61,8 @@ impl Store {
         for &point in point_ids {
             n += self.conn.query_row(
                 "SELECT COUNT(*) FROM jobs
-                 WHERE point_id = ?1 AND solver_version = ?2 AND state != 'pending'",
-                params![point, version],
+                 WHERE point_id = ?1 AND solver_version = ?2 AND state != ?3",
+                params![point, version, Pending],
                 |r| r.get::<_, i64>(0),
             )? as usize;
         }
@@ -87,10 +88,10 @@ impl Store {
                 params![point, version],
             )?;
             out.jobs += tx.execute(
-                "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts, error = NULL,
+                "UPDATE jobs SET state = ?3, attempts_at_retry = attempts, error = NULL,
                      started_at = NULL, finished_at = NULL
-                 WHERE point_id = ?1 AND solver_version = ?2 AND state != 'pending'",
-                params![point, version],
+                 WHERE point_id = ?1 AND solver_version = ?2 AND state != ?3",
+                params![point, version, Pending],
             )?;
         }
         tx.commit()?;
@@ -108,8 +109,8 @@ impl Store {
         for &job in &t.jobs {
             let (has_result, not_pending): (i64, i64) = self.conn.query_row(
                 "SELECT (SELECT COUNT(*) FROM results WHERE job_id = ?1),
-                        (SELECT COUNT(*) FROM jobs WHERE id = ?1 AND state != 'pending')",
-                [job],
+                        (SELECT COUNT(*) FROM jobs WHERE id = ?1 AND state != ?2)",
+                params![job, Pending],
                 |r| Ok((r.get(0)?, r.get(1)?)),
             )?;
             out.results += has_result as usize;
@@ -132,20 +133,20 @@ impl Store {
         };
         for &prep in &t.preps {
             out.preps += tx.execute(
-                "UPDATE preps SET state = 'pending', attempts_at_retry = attempts, error = NULL,
+                "UPDATE preps SET state = ?2, attempts_at_retry = attempts, error = NULL,
                      verdict = NULL, verdict_time = NULL, free_speed = NULL, nx = NULL, ny = NULL,
                      phi = NULL, p = NULL, summary = NULL, wall_s = NULL, finished_at = NULL
                  WHERE id = ?1",
-                [prep],
+                params![prep, Pending],
             )?;
         }
         for &job in &t.jobs {
             out.results += tx.execute("DELETE FROM results WHERE job_id = ?1", [job])?;
             out.jobs += tx.execute(
-                "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts, error = NULL,
+                "UPDATE jobs SET state = ?2, attempts_at_retry = attempts, error = NULL,
                      started_at = NULL, finished_at = NULL
-                 WHERE id = ?1 AND state != 'pending'",
-                [job],
+                 WHERE id = ?1 AND state != ?2",
+                params![job, Pending],
             )?;
         }
         tx.commit()?;

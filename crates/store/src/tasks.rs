@@ -44,12 +44,11 @@ impl Store {
                  {SWEEP_PREP_IDS}) ORDER BY id"
         ))?;
         let rows = q.query_map(params![sweep_id, version, k], |r| {
-            let state: String = r.get(3)?;
             Ok(PrepTask {
                 id: r.get(0)?,
                 seed: seed_from_sql(r.get(1)?),
                 config: r.get(2)?,
-                state: JobState::parse(&state).unwrap_or(JobState::Failed),
+                state: r.get(3)?,
                 verdict: r.get(4)?,
                 attempts: r.get(5)?,
             })

@@ -7,7 +7,7 @@ use rusqlite::{params, OptionalExtension};
 use crate::database::Store;
 use crate::encoding::now;
 use crate::error::{Result, StoreError};
-use crate::lifecycle::JobState;
+use crate::lifecycle::JobState::{self, Failed, Pending, Running};
 
 impl Store {
     /// Put a sweep's failed jobs and preps back to pending, each with `max_attempts` attempts
@@ -17,17 +17,17 @@ impl Store {
     pub fn retry_failed(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
         let tx = self.write()?;
         let preps = tx.execute(
-            "UPDATE preps SET state = 'pending', attempts_at_retry = attempts
-             WHERE state = 'failed' AND solver_version = ?2 AND id IN (
+            "UPDATE preps SET state = ?3, attempts_at_retry = attempts
+             WHERE state = ?4 AND solver_version = ?2 AND id IN (
                  SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
                  WHERE p.sweep_id = ?1)",
-            params![sweep_id, version],
+            params![sweep_id, version, Pending, Failed],
         )?;
         let jobs = tx.execute(
-            "UPDATE jobs SET state = 'pending', attempts_at_retry = attempts
-             WHERE state = 'failed' AND solver_version = ?2
+            "UPDATE jobs SET state = ?3, attempts_at_retry = attempts
+             WHERE state = ?4 AND solver_version = ?2
                AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
-            params![sweep_id, version],
+            params![sweep_id, version, Pending, Failed],
         )?;
         tx.commit()?;
         Ok(preps + jobs)
@@ -38,17 +38,17 @@ impl Store {
     pub fn recover_running(&mut self, sweep_id: i64, version: &str) -> Result<usize> {
         let tx = self.write()?;
         let jobs = tx.execute(
-            "UPDATE jobs SET state = 'pending', started_at = NULL
-             WHERE state = 'running' AND solver_version = ?2
+            "UPDATE jobs SET state = ?3, started_at = NULL
+             WHERE state = ?4 AND solver_version = ?2
                AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
-            params![sweep_id, version],
+            params![sweep_id, version, Pending, Running],
         )?;
         let preps = tx.execute(
-            "UPDATE preps SET state = 'pending'
-             WHERE state = 'running' AND solver_version = ?2 AND id IN (
+            "UPDATE preps SET state = ?3
+             WHERE state = ?4 AND solver_version = ?2 AND id IN (
                  SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
                  WHERE p.sweep_id = ?1)",
-            params![sweep_id, version],
+            params![sweep_id, version, Pending, Running],
         )?;
         tx.commit()?;
         Ok(jobs + preps)
@@ -57,19 +57,19 @@ impl Store {
     /// pending -> running for a job.
     pub fn claim_job(&mut self, id: i64) -> Result<()> {
         let n = self.conn.execute(
-            "UPDATE jobs SET state = 'running', started_at = ?2 WHERE id = ?1 AND state = 'pending'",
-            params![id, now()],
+            "UPDATE jobs SET state = ?3, started_at = ?2 WHERE id = ?1 AND state = ?4",
+            params![id, now(), Running, Pending],
         )?;
-        self.expect_one(n, "job", id, "pending", "jobs")
+        self.expect_one(n, "job", id, Pending, "jobs")
     }
 
     /// pending -> running for a prep.
     pub fn claim_prep(&mut self, id: i64) -> Result<()> {
         let n = self.conn.execute(
-            "UPDATE preps SET state = 'running' WHERE id = ?1 AND state = 'pending'",
-            params![id],
+            "UPDATE preps SET state = ?2 WHERE id = ?1 AND state = ?3",
+            params![id, Running, Pending],
         )?;
-        self.expect_one(n, "prep", id, "pending", "preps")
+        self.expect_one(n, "prep", id, Pending, "preps")
     }
 
     pub(crate) fn expect_one(
@@ -77,7 +77,7 @@ impl Store {
         n: usize,
         what: &'static str,
         id: i64,
-        expected: &'static str,
+        expected: JobState,
         table: &str,
     ) -> Result<()> {
         if n == 1 {
@@ -95,7 +95,7 @@ impl Store {
             what,
             id,
             found: found.unwrap_or_else(|| "missing".into()),
-            expected,
+            expected: expected.as_str(),
         })
     }
 
@@ -139,20 +139,20 @@ impl Store {
             &format!(
                 "UPDATE {table} SET attempts = attempts + 1, error = ?2,
                      state = CASE WHEN ?3 IS NOT NULL AND attempts + 1 - attempts_at_retry >= ?3
-                                  THEN 'failed' ELSE 'pending' END
-                 WHERE id = ?1 AND state IN ('pending', 'running') AND attempts = ?4 - 1"
+                                  THEN ?5 ELSE ?6 END
+                 WHERE id = ?1 AND state IN (?6, ?7) AND attempts = ?4 - 1"
             ),
-            params![id, error, max_attempts, attempt],
+            params![id, error, max_attempts, attempt, Failed, Pending, Running],
         )?;
         if n == 0 {
             return Ok(None);
         }
-        let s: String = self.conn.query_row(
+        let state: JobState = self.conn.query_row(
             &format!("SELECT state FROM {table} WHERE id = ?1"),
             [id],
             |r| r.get(0),
         )?;
-        Ok(Some(JobState::parse(&s).unwrap_or(JobState::Failed)))
+        Ok(Some(state))
     }
 
     /// Fail for good the sweep's pending preps and jobs of `version` that have failed
@@ -166,19 +166,19 @@ impl Store {
     ) -> Result<usize> {
         let tx = self.write()?;
         let preps = tx.execute(
-            "UPDATE preps SET state = 'failed'
-             WHERE state = 'pending' AND attempts - attempts_at_retry >= ?3
+            "UPDATE preps SET state = ?4
+             WHERE state = ?5 AND attempts - attempts_at_retry >= ?3
                AND solver_version = ?2 AND id IN (
                  SELECT j.prep_id FROM jobs j JOIN points p ON p.id = j.point_id
                  WHERE p.sweep_id = ?1)",
-            params![sweep_id, version, max_attempts],
+            params![sweep_id, version, max_attempts, Failed, Pending],
         )?;
         let jobs = tx.execute(
-            "UPDATE jobs SET state = 'failed'
-             WHERE state = 'pending' AND attempts - attempts_at_retry >= ?3
+            "UPDATE jobs SET state = ?4
+             WHERE state = ?5 AND attempts - attempts_at_retry >= ?3
                AND solver_version = ?2
                AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
-            params![sweep_id, version, max_attempts],
+            params![sweep_id, version, max_attempts, Failed, Pending],
         )?;
         tx.commit()?;
         Ok(preps + jobs)
@@ -195,14 +195,16 @@ impl Store {
         let tx = self.write()?;
         crate::plans::materialize_prep(&tx, sweep_id, prep_id, version)?;
         let n = tx.execute(
-            "UPDATE jobs SET state = 'failed', error = ?4
-             WHERE prep_id = ?2 AND solver_version = ?3 AND state = 'pending'
+            "UPDATE jobs SET state = ?5, error = ?4
+             WHERE prep_id = ?2 AND solver_version = ?3 AND state = ?6
                AND point_id IN (SELECT id FROM points WHERE sweep_id = ?1)",
             params![
                 sweep_id,
                 prep_id,
                 version,
-                format!("its prep failed: {error}")
+                format!("its prep failed: {error}"),
+                Failed,
+                Pending
             ],
         )?;
         tx.commit()?;

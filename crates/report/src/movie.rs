@@ -1,36 +1,20 @@
 //! The movie of a trajectory (`simulate --frames`, `replay --frames`): a solver [`Monitor`]
 //! that renders the collision's fields every so many tau0 into PNG files, then an animated GIF
 //! of them, passing stages and steps on to another monitor (the command's progress bars).
-//! Main type: [`FrameRecorder`].
+//! Main type: [`FrameRecorder`]; every file is written whole or not at all.
 
 use std::path::{Path, PathBuf};
 
 use cellsweep_plot::frames::{figure, Snapshot};
-use cellsweep_plot::{Image, RenderError};
+use cellsweep_plot::Image;
 use cellsweep_solver::{Cell, Decision, Fibers, Lattice, Monitor, Stage};
 
-/// Why a movie could not be made.
-#[derive(Debug, thiserror::Error)]
-pub enum MovieError {
-    #[error("cannot create {path}: {source}")]
-    Create {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("cannot write {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error(transparent)]
-    Render(#[from] RenderError),
-}
+use crate::plot_files::WriteError;
+use crate::whole_file::write_whole;
 
-fn write(path: &Path, bytes: &[u8]) -> Result<(), MovieError> {
-    std::fs::write(path, bytes).map_err(|source| MovieError::Io {
-        path: path.display().to_string(),
-        source,
-    })
+/// A file of the movie, written whole or not at all.
+fn write(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    write_whole(path, bytes).map_err(|e| WriteError::io(path, e))
 }
 
 /// Snapshots every `every` tau0 of the collision, with `inner` told of every stage and step.
@@ -47,18 +31,15 @@ pub struct FrameRecorder<M: Monitor> {
     /// reports it).
     ///
     /// [`finish`]: FrameRecorder::finish
-    error: Option<MovieError>,
+    error: Option<WriteError>,
     /// The outcome once decided, shown on every later frame.
     note: String,
 }
 
 impl<M: Monitor> FrameRecorder<M> {
     /// A recorder writing into `dir` (created), a snapshot every `every` tau0 (at least 0.5).
-    pub fn new(dir: &Path, every: f64, inner: M) -> Result<Self, MovieError> {
-        std::fs::create_dir_all(dir).map_err(|source| MovieError::Create {
-            path: dir.display().to_string(),
-            source,
-        })?;
+    pub fn new(dir: &Path, every: f64, inner: M) -> Result<Self, WriteError> {
+        std::fs::create_dir_all(dir).map_err(|e| WriteError::create(dir, e))?;
         Ok(FrameRecorder {
             inner,
             dir: dir.to_path_buf(),
@@ -72,7 +53,7 @@ impl<M: Monitor> FrameRecorder<M> {
     }
 
     /// Write the animated GIF of the snapshots taken; the first failure, if any.
-    pub fn finish(&mut self) -> Result<(), MovieError> {
+    pub fn finish(&mut self) -> Result<(), WriteError> {
         if let Some(e) = self.error.take() {
             return Err(e);
         }
@@ -132,7 +113,7 @@ impl<M: Monitor> Monitor for FrameRecorder<M> {
         let path = self.dir.join(format!("frame-{:05.0}.png", t));
         let drawn = fig
             .to_png(2.0)
-            .map_err(MovieError::from)
+            .map_err(WriteError::from)
             .and_then(|png| write(&path, &png))
             .and_then(|()| Ok(fig.rasterize(1.0)?));
         match drawn {

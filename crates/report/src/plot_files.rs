@@ -13,6 +13,11 @@ use crate::{figures, Results};
 /// A picture that could not be drawn or written.
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
+    #[error("cannot create {path}: {source}")]
+    Create {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("cannot write {path}: {source}")]
     Io {
         path: String,
@@ -25,9 +30,17 @@ pub enum WriteError {
 }
 
 impl WriteError {
-    fn io(path: &Path, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
         WriteError::Io {
             path: path.display().to_string(),
+            source,
+        }
+    }
+
+    /// `dir` could not be made.
+    pub(crate) fn create(dir: &Path, source: std::io::Error) -> Self {
+        WriteError::Create {
+            path: dir.display().to_string(),
             source,
         }
     }
@@ -55,7 +68,7 @@ pub fn write_plane_plots(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, WriteError> {
     let diagrams = figures::plane_diagrams(results, plane)?;
-    std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| WriteError::create(dir, e))?;
     let mut written = Vec::new();
     for (stem, d) in diagrams {
         write(
@@ -70,7 +83,7 @@ pub fn write_plane_plots(
 
 /// Write every picture of `results` into `dir`; returns the files written.
 pub fn write_plots(results: &Results, dir: &Path) -> Result<Vec<PathBuf>, WriteError> {
-    std::fs::create_dir_all(dir).map_err(|e| WriteError::io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| WriteError::create(dir, e))?;
     let read = fit_line(&results.counts, &results.scales, 0, 1, Method::Model);
     let fitted = read.as_ref().ok();
     let columns = match &read {

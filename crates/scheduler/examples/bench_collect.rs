@@ -59,7 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         store.record_prep(
             p.id,
             &PrepRecord {
-                verdict: "ok".into(),
+                verdict: cellsweep_stats::PrepVerdict::Ok,
                 verdict_time: None,
                 free_speed: Some(0.7),
                 nx: 2,

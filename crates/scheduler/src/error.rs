@@ -108,6 +108,9 @@ pub enum RunError {
     Prep(#[from] PayloadError),
     #[error(transparent)]
     Definition(#[from] StoredSweepError),
+    /// A row committed without [`crate::Ledger::check_row`] passing it first.
+    #[error("a row with verdict {verdict:?} and outcome {outcome:?} was not checked")]
+    UncheckedRow { verdict: String, outcome: String },
 }
 
 /// A point found in a store or an export that the sweep could not hold (see

@@ -241,11 +241,15 @@ pub fn differences(row: &ExportRow, replayed: &ResultRecord, hash: &str) -> Vec<
         .and_then(|r| r["sheddings"].as_u64())
         .unwrap_or(0);
     let fields: [(&'static str, String, String); 13] = [
-        ("verdict", row.verdict.clone(), replayed.verdict.clone()),
+        ("verdict", row.verdict.clone(), replayed.verdict.to_string()),
         (
             "outcome",
             text(row.outcome.as_deref()),
-            text(replayed.outcome.as_deref()),
+            text(
+                replayed
+                    .outcome
+                    .and_then(cellsweep_stats::End::stored_outcome),
+            ),
         ),
         (
             "contact_time",

@@ -48,7 +48,7 @@ impl PrepPayload {
     pub fn to_record(&self, wall_s: f64) -> Result<PrepRecord, PayloadError> {
         let prep = self.to_prep()?;
         Ok(PrepRecord {
-            verdict: self.verdict.as_str().to_string(),
+            verdict: crate::ledger::stored_verdict(self.verdict),
             verdict_time: self.verdict_time,
             free_speed: self.free_speed,
             nx: self.lattice[0],

@@ -179,13 +179,11 @@ impl End {
             .find(|e| e.stored_outcome() == Some(outcome))
     }
 
-    /// From a stored result's prep verdict and collision outcome.
+    /// From a stored result's prep verdict and collision outcome, as named in a file.
     pub fn of(verdict: &str, outcome: Option<&str>) -> Option<End> {
         match (verdict, outcome) {
             (_, Some(o)) => End::of_outcome(o),
-            ("unstable", None) => Some(End::Unstable),
-            ("breakup", None) => Some(End::Breakup),
-            _ => None,
+            (v, None) => PrepVerdict::parse(v).and_then(PrepVerdict::end),
         }
     }
 }
@@ -194,6 +192,51 @@ impl End {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{0:?}: not one of {names}", names = End::ALL.map(End::name).join(", "))]
 pub struct UnknownEnd(pub String);
+
+/// The verdict on a prepped cell, as results store it: `ok` (its collisions run), or a verdict
+/// that decides every replicate of the prep without a collision (SPEC section 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PrepVerdict {
+    Ok,
+    Unstable,
+    Breakup,
+}
+
+impl PrepVerdict {
+    pub const ALL: [PrepVerdict; 3] =
+        [PrepVerdict::Ok, PrepVerdict::Unstable, PrepVerdict::Breakup];
+
+    /// Its stored name (`ok`, `unstable`, `breakup`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            PrepVerdict::Ok => "ok",
+            PrepVerdict::Unstable => "unstable",
+            PrepVerdict::Breakup => "breakup",
+        }
+    }
+
+    /// From its stored name.
+    pub fn parse(name: &str) -> Option<PrepVerdict> {
+        PrepVerdict::ALL.into_iter().find(|v| v.as_str() == name)
+    }
+
+    /// The end of every replicate of a prep with this verdict, where the verdict decides it
+    /// (`None` for `ok`: the collision decides).
+    pub fn end(self) -> Option<End> {
+        match self {
+            PrepVerdict::Ok => None,
+            PrepVerdict::Unstable => Some(End::Unstable),
+            PrepVerdict::Breakup => Some(End::Breakup),
+        }
+    }
+}
+
+impl std::fmt::Display for PrepVerdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// One value per [`End`], indexed by the end.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -59,7 +59,7 @@ pub use column_shift::{column_shifts, ColumnShift, ColumnShifts};
 pub use compare::{compare, Comparison, PointComparison, Test};
 pub use convergence::{compare_columns, ColumnChange, Side, Verdict};
 pub use counts::{wilson, Counts, Fraction, Label};
-pub use end::{End, PerEnd, Replicate, Tally, UnknownEnd};
+pub use end::{End, PerEnd, PrepVerdict, Replicate, Tally, UnknownEnd};
 pub use fit::{fit_columns, fit_line, Column, Fit, Method, NoFit, Scales};
 pub use interpolation::NoCrossing;
 pub use plane::{Plane, PlaneDiagram, PlaneError};

@@ -24,7 +24,7 @@ pub struct JobIdentity {
     /// JSON of the point's solver configuration.
     pub config: String,
     /// The prep's verdict, once it is done.
-    pub prep_verdict: Option<String>,
+    pub prep_verdict: Option<cellsweep_stats::PrepVerdict>,
 }
 
 /// What the store says a prep is.
@@ -59,7 +59,7 @@ impl Store {
                     prep_id: r.get(3)?,
                     state: r.get(4)?,
                     config: r.get(5)?,
-                    prep_verdict: r.get(6)?,
+                    prep_verdict: crate::kinds::maybe_verdict_at(r, 6)?,
                 })
             })
             .optional()?)

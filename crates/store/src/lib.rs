@@ -13,6 +13,7 @@ mod encoding;
 pub mod error;
 pub mod export;
 pub mod identity;
+mod kinds;
 pub mod lifecycle;
 mod plans;
 mod progress;

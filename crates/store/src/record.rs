@@ -7,12 +7,14 @@ use rusqlite::{params, Connection};
 use crate::database::Store;
 use crate::encoding::{bytes_to_f64s, f64s_to_bytes, now};
 use crate::error::Result;
+use crate::kinds::{outcome_name, verdict_at};
 use crate::lifecycle::JobState::{Done, Failed, Pending, Running};
+use cellsweep_stats::{End, PrepVerdict};
 
 /// A finished prep, as stored.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrepRecord {
-    pub verdict: String,
+    pub verdict: PrepVerdict,
     pub verdict_time: Option<f64>,
     pub free_speed: Option<f64>,
     pub nx: usize,
@@ -27,8 +29,10 @@ pub struct PrepRecord {
 /// A finished collision, as stored.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResultRecord {
-    pub verdict: String,
-    pub outcome: Option<String>,
+    pub verdict: PrepVerdict,
+    /// The collision's outcome (an [`End`] that is a collision), none where the prep's verdict
+    /// decided the replicate.
+    pub outcome: Option<End>,
     pub contact_time: Option<f64>,
     pub decision_time: Option<f64>,
     pub free_speed: Option<f64>,
@@ -74,7 +78,7 @@ impl Store {
              WHERE id = ?1 AND state IN (?13, ?14, ?15)",
             params![
                 prep_id,
-                r.verdict,
+                r.verdict.as_str(),
                 r.verdict_time,
                 r.free_speed,
                 r.nx as i64,
@@ -101,7 +105,7 @@ impl Store {
             params![prep_id, Done],
             |r| {
                 Ok(PrepRecord {
-                    verdict: r.get(0)?,
+                    verdict: verdict_at(r, 0)?,
                     verdict_time: r.get(1)?,
                     free_speed: r.get(2)?,
                     nx: r.get::<_, i64>(3)? as usize,
@@ -166,8 +170,8 @@ fn insert_result(
     .execute(params![
             job_id,
             version,
-            r.verdict,
-            r.outcome,
+            r.verdict.as_str(),
+            outcome_name(r.outcome),
             r.contact_time,
             r.decision_time,
             r.free_speed,

@@ -1,6 +1,6 @@
 //! The finished replicates of a sweep, read for the statistics (`cellsweep_stats`).
 
-use cellsweep_stats::{End, Others, Replicate};
+use cellsweep_stats::{Others, Replicate};
 use rusqlite::params;
 
 use crate::database::Store;
@@ -44,8 +44,8 @@ impl Store {
                 (r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?),
                 (r.get::<_, i64>(5)?, r.get::<_, i64>(6)?),
                 (
-                    r.get::<_, String>(7)?,
-                    r.get::<_, Option<String>>(8)?,
+                    crate::kinds::verdict_at(r, 7)?,
+                    crate::kinds::outcome_at(r, 8)?,
                     r.get(9)?,
                 ),
                 r.get::<_, i64>(10)?,
@@ -55,8 +55,8 @@ impl Store {
         for row in rows {
             let ((alpha, beta, l, sigma, replicate), (seed, prep_seed), (verdict, outcome, t), idx) =
                 row?;
-            // The schema's CHECKs admit nothing else.
-            let Some(end) = End::of(&verdict, outcome.as_deref()) else {
+            // An `ok` result without an outcome: the schema's CHECKs admit none.
+            let Some(end) = crate::kinds::end_of(verdict, outcome) else {
                 continue;
             };
             out.push(Replicate {

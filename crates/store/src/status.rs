@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::database::Store;
 use crate::error::Result;
+use crate::kinds::{end_of, outcome_at, verdict_at};
 use cellsweep_stats::{End, Tally};
 
 /// Jobs of one sweep and solver version, by state.
@@ -23,13 +24,16 @@ impl StateCounts {
     }
 }
 
-/// The end of `n` stored results with this verdict and outcome, added to `tally`. The
-/// schema admits no other pair; anything else would be a broken prep, counted so.
-fn add_stored(tally: &mut Tally, verdict: &str, outcome: Option<&str>, n: i64) {
+/// The end of `n` stored results with the verdict and outcome in columns `at` and `at + 1`
+/// of `r`, added to `tally`. A name that is neither is an error; the schema admits no `ok`
+/// result without an outcome, which would be a broken prep, counted so.
+fn add_stored(tally: &mut Tally, r: &rusqlite::Row, at: usize, n: i64) -> rusqlite::Result<()> {
+    let (verdict, outcome) = (verdict_at(r, at)?, outcome_at(r, at + 1)?);
     tally.add(
-        End::of(verdict, outcome).unwrap_or(End::Breakup),
+        end_of(verdict, outcome).unwrap_or(End::Breakup),
         n.max(0) as u64,
     );
+    Ok(())
 }
 
 /// Progress of one sweep under one solver version.
@@ -192,16 +196,9 @@ impl Store {
             }
         })?;
         let mut c = Tally::default();
-        let rows = q.query_map(params![sweep_id, version, point], |r| {
-            Ok((
-                r.get::<_, String>(0)?,
-                r.get::<_, Option<String>>(1)?,
-                r.get::<_, i64>(2)?,
-            ))
-        })?;
-        for row in rows {
-            let (verdict, outcome, n) = row?;
-            add_stored(&mut c, &verdict, outcome.as_deref(), n);
+        let mut rows = q.query(params![sweep_id, version, point])?;
+        while let Some(r) = rows.next()? {
+            add_stored(&mut c, r, 0, r.get(2)?)?;
         }
         Ok(c)
     }
@@ -248,14 +245,7 @@ impl Store {
         let mut rows = q.query(params![sweep_id, version])?;
         while let Some(r) = rows.next()? {
             if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {
-                let outcome: Option<String> = r.get(2)?;
-                let verdict: String = r.get(1)?;
-                add_stored(
-                    &mut out[i].outcomes,
-                    &verdict,
-                    outcome.as_deref(),
-                    r.get(3)?,
-                );
+                add_stored(&mut out[i].outcomes, r, 1, r.get(3)?)?;
             }
         }
         for (point, jobs) in self.point_states(sweep_id, version)? {

@@ -17,7 +17,7 @@ pub struct PrepTask {
     pub seed: u64,
     pub config: String,
     pub state: JobState,
-    pub verdict: Option<String>,
+    pub verdict: Option<cellsweep_stats::PrepVerdict>,
     pub attempts: u32,
 }
 
@@ -49,7 +49,7 @@ impl Store {
                 seed: seed_from_sql(r.get(1)?),
                 config: r.get(2)?,
                 state: r.get(3)?,
-                verdict: r.get(4)?,
+                verdict: crate::kinds::maybe_verdict_at(r, 4)?,
                 attempts: r.get(5)?,
             })
         })?;

@@ -60,8 +60,8 @@ fn pending(store: &mut Store, sweep_id: i64, version: &str) -> Vec<cellsweep_sto
 
 fn record(outcome: &str) -> ResultRecord {
     ResultRecord {
-        verdict: "ok".into(),
-        outcome: Some(outcome.into()),
+        verdict: cellsweep_stats::PrepVerdict::Ok,
+        outcome: Some(cellsweep_stats::End::of_outcome(outcome).unwrap()),
         contact_time: Some(1.0),
         decision_time: Some(2.0),
         free_speed: Some(0.5),

@@ -122,7 +122,7 @@ impl<'a> Run<'a> {
             match prep.state {
                 JobState::Done | JobState::Failed => {
                     self.progress.preps_done += 1;
-                    if prep.verdict.as_deref() == Some("ok") {
+                    if prep.verdict == Some(cellsweep_stats::PrepVerdict::Ok) {
                         self.ok_preps.insert(prep.id);
                     }
                 }

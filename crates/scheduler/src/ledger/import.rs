@@ -2,6 +2,7 @@
 
 use cellsweep_solver::resolution::to_lattice;
 use cellsweep_solver::{Config, Params};
+use cellsweep_stats::{End, PrepVerdict};
 use cellsweep_store::export::{changed_params, same_to_round_off, ExportRow};
 use cellsweep_store::{JobIdentity, JobState, ResultRecord, Store};
 use serde_json::json;
@@ -151,7 +152,7 @@ fn prep_problem(
     job: &JobIdentity,
     row: &ExportRow,
 ) -> Result<Option<String>, RunError> {
-    let Some(verdict) = job.prep_verdict.as_deref() else {
+    let Some(verdict) = job.prep_verdict else {
         return Ok(Some("its prep is not computed yet".into()));
     };
     let hash = store.prep_hash(job.prep_id)?;
@@ -162,10 +163,10 @@ fn prep_problem(
         )));
     }
     let outcome_ok = match row.outcome.as_deref() {
-        None => verdict != "ok",
-        Some(o) => verdict == "ok" && cellsweep_stats::End::of_outcome(o).is_some(),
+        None => verdict != PrepVerdict::Ok,
+        Some(o) => verdict == PrepVerdict::Ok && End::of_outcome(o).is_some(),
     };
-    if row.verdict != verdict || !outcome_ok {
+    if row.verdict != verdict.as_str() || !outcome_ok {
         return Ok(Some(format!(
             "verdict {:?} with outcome {:?}, but the job's prep is {verdict}",
             row.verdict,
@@ -210,9 +211,17 @@ impl Ledger {
     ) -> Result<Settlement, RunError> {
         let mut record = serde_json::to_value(row)?;
         record["imported"] = json!(true);
-        let rec = ResultRecord {
+        let unchecked = || RunError::UncheckedRow {
             verdict: row.verdict.clone(),
-            outcome: row.outcome.clone(),
+            outcome: row.outcome.clone().unwrap_or_default(),
+        };
+        let outcome = match row.outcome.as_deref() {
+            None => None,
+            Some(o) => Some(End::of_outcome(o).ok_or_else(unchecked)?),
+        };
+        let rec = ResultRecord {
+            verdict: PrepVerdict::parse(&row.verdict).ok_or_else(unchecked)?,
+            outcome,
             contact_time: row.contact_time,
             decision_time: row.decision_time,
             free_speed: row.free_speed,

@@ -33,8 +33,8 @@ mod settle;
 pub use failure::{Failure, TaskRef};
 pub use import::RowCheck;
 pub use rounds::ColumnStanding;
-pub(crate) use settle::result_record;
 pub use settle::PrepSettled;
+pub(crate) use settle::{result_record, stored_verdict};
 
 /// What became of a record.
 #[derive(Debug, Clone, PartialEq)]

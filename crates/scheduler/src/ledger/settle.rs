@@ -1,6 +1,7 @@
 //! Records checked and committed: a prep, a collision, and the jobs a prep's verdict decides.
 
-use cellsweep_solver::{Config, TrajectoryResult, Verdict};
+use cellsweep_solver::{Config, Outcome, TrajectoryResult, Verdict};
+use cellsweep_stats::{End, PrepVerdict};
 use cellsweep_store::{JobState, ResultRecord, Store};
 use serde_json::json;
 
@@ -16,6 +17,27 @@ pub struct PrepSettled {
     pub jobs_settled: usize,
 }
 
+/// The verdict a prep's solver verdict is stored as.
+pub(crate) fn stored_verdict(v: Verdict) -> PrepVerdict {
+    match v {
+        Verdict::Ok => PrepVerdict::Ok,
+        Verdict::Unstable => PrepVerdict::Unstable,
+        Verdict::Breakup => PrepVerdict::Breakup,
+    }
+}
+
+/// The end a collision's outcome (the classifier's) is stored and counted as: the one
+/// conversion from the classifier's kinds to [`End`] (a new outcome fails to compile here).
+pub(crate) fn collision_end(o: Outcome) -> End {
+    match o {
+        Outcome::Train => End::Train,
+        Outcome::WalkPast => End::WalkPast,
+        Outcome::Reversal => End::Reversal,
+        Outcome::Undetermined => End::Undetermined,
+        Outcome::Breakup => End::CollisionBreakup,
+    }
+}
+
 /// The record of a job decided by its prep's verdict (no collision run).
 fn verdict_record(
     verdict: Verdict,
@@ -25,7 +47,7 @@ fn verdict_record(
     classifier: &str,
 ) -> ResultRecord {
     ResultRecord {
-        verdict: verdict.as_str().to_string(),
+        verdict: stored_verdict(verdict),
         outcome: None,
         contact_time: None,
         decision_time: None,
@@ -55,8 +77,8 @@ pub(crate) fn result_record(r: &TrajectoryResult, wall_s: f64) -> ResultRecord {
             .unwrap_or_default()
     };
     ResultRecord {
-        verdict: r.verdict.as_str().to_string(),
-        outcome: r.outcome.map(|o| o.as_str().to_string()),
+        verdict: stored_verdict(r.verdict),
+        outcome: r.outcome.map(collision_end),
         contact_time: r.contact_time,
         decision_time: r.decision_time,
         free_speed: r.free_speed,
@@ -113,7 +135,7 @@ impl Ledger {
         // settled (or will) from the prep itself, so such a record agrees and adds nothing.
         let decided_by_prep = result.verdict != Verdict::Ok
             && result.outcome.is_none()
-            && job.prep_verdict.as_deref() == Some(result.verdict.as_str());
+            && job.prep_verdict == Some(stored_verdict(result.verdict));
         if decided_by_prep {
             if job.state == JobState::Done {
                 return Ok(Settlement::Already);
@@ -123,14 +145,14 @@ impl Ledger {
             return Ok(Settlement::New);
         }
         if !decided_by_prep
-            && (job.prep_verdict.as_deref() != Some("ok")
+            && (job.prep_verdict != Some(PrepVerdict::Ok)
                 || result.verdict != Verdict::Ok
                 || result.outcome.is_none())
         {
             return refuse(format!(
                 "a collision with verdict {:?}, but the job's prep is {}",
                 result.verdict.as_str(),
-                job.prep_verdict.as_deref().unwrap_or("not done")
+                job.prep_verdict.map_or("not done", PrepVerdict::as_str)
             ));
         }
         if job.state == JobState::Done {

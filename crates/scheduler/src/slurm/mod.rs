@@ -185,8 +185,8 @@ fn requests(
     let mut prep_reqs = Vec::new();
     let mut blocked = std::collections::HashSet::new();
     for p in &preps {
-        match (p.state, p.verdict.as_deref()) {
-            (JobState::Done, Some("ok")) => {
+        match (p.state, p.verdict) {
+            (JobState::Done, Some(cellsweep_stats::PrepVerdict::Ok)) => {
                 let path = preps_dir.join(format!("{}.json", p.id));
                 let sound = path.exists()
                     && (!needed.contains(&p.id) || array_task::read_prep(&path).is_ok());

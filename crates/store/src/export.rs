@@ -13,6 +13,7 @@ use crate::database::Store;
 use crate::digest::fnv1a;
 use crate::encoding::{bytes_to_f64s, seed_from_sql};
 use crate::error::Result;
+use crate::lifecycle::JobState::Done;
 
 /// Version of the exported columns; bumped on any change to them. Format 2 added the wall
 /// times (`wall_s`, `prep_wall_s`); format 3 the outcome `breakup` with its `breakup_reason`;
@@ -341,8 +342,8 @@ impl Store {
         Ok(self
             .conn
             .query_row(
-                "SELECT free_speed FROM preps WHERE id = ?1 AND state = 'done'",
-                [prep_id],
+                "SELECT free_speed FROM preps WHERE id = ?1 AND state = ?2",
+                params![prep_id, Done],
                 |r| r.get::<_, Option<f64>>(0),
             )
             .optional()?
@@ -354,8 +355,8 @@ impl Store {
         let fields: Option<(Vec<u8>, Vec<u8>)> = self
             .conn
             .query_row(
-                "SELECT phi, p FROM preps WHERE id = ?1 AND state = 'done'",
-                [prep_id],
+                "SELECT phi, p FROM preps WHERE id = ?1 AND state = ?2",
+                params![prep_id, Done],
                 |r| Ok((r.get(0)?, r.get(1)?)),
             )
             .ok();
@@ -372,8 +373,8 @@ impl Store {
         let fields: Option<(Vec<u8>, Option<i64>)> = self
             .conn
             .query_row(
-                "SELECT phi, nx FROM preps WHERE id = ?1 AND state = 'done'",
-                [prep_id],
+                "SELECT phi, nx FROM preps WHERE id = ?1 AND state = ?2",
+                params![prep_id, Done],
                 |r| Ok((r.get(0)?, r.get(1)?)),
             )
             .optional()?;

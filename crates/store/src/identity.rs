@@ -47,11 +47,11 @@ impl Store {
             .conn
             .prepare_cached(
                 "SELECT p.sweep_id, j.solver_version, j.seed, j.prep_id, j.state, p.params,
-                        CASE WHEN pr.state = 'done' THEN pr.verdict END
+                        CASE WHEN pr.state = ?2 THEN pr.verdict END
                  FROM jobs j JOIN points p ON p.id = j.point_id JOIN preps pr ON pr.id = j.prep_id
                  WHERE j.id = ?1",
             )?
-            .query_row([id], |r| {
+            .query_row(params![id, JobState::Done], |r| {
                 Ok(JobIdentity {
                     sweep_id: r.get(0)?,
                     solver_version: r.get(1)?,

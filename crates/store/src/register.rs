@@ -8,6 +8,7 @@ use rusqlite::{params, OptionalExtension};
 use crate::database::Store;
 use crate::encoding::{now, point_others, seed_to_sql};
 use crate::error::{Result, StoreError};
+use crate::lifecycle::JobState;
 use crate::plans::{plan_point_jobs, NewJob};
 
 /// A sweep to register: its points, their jobs, and the preps they start from.
@@ -299,10 +300,10 @@ fn other_versions(
 ) -> Result<Vec<(String, i64)>> {
     let mut q = tx.prepare(
         "SELECT j.solver_version, COUNT(*) FROM jobs j JOIN points p ON p.id = j.point_id
-         WHERE p.sweep_id = ?1 AND j.solver_version != ?2 AND j.state = 'done'
+         WHERE p.sweep_id = ?1 AND j.solver_version != ?2 AND j.state = ?3
          GROUP BY j.solver_version ORDER BY j.solver_version",
     )?;
-    let rows = q.query_map(params![sweep_id, solver_version], |r| {
+    let rows = q.query_map(params![sweep_id, solver_version, JobState::Done], |r| {
         Ok((r.get(0)?, r.get(1)?))
     })?;
     Ok(rows.collect::<rusqlite::Result<Vec<_>>>()?)

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::database::Store;
 use crate::error::Result;
 use crate::kinds::{end_of, outcome_at, verdict_at};
+use crate::lifecycle::JobState::{Done, Failed};
 use cellsweep_stats::{End, Tally};
 
 /// Jobs of one sweep and solver version, by state.
@@ -258,9 +259,9 @@ impl Store {
             "SELECT p.id, AVG(pr.free_speed) FROM points p JOIN jobs j ON j.point_id = p.id
              JOIN preps pr ON pr.id = j.prep_id
              WHERE p.sweep_id = ?1 AND j.replicate < ?3 AND j.solver_version = ?2
-               AND pr.state = 'done' GROUP BY p.id",
+               AND pr.state = ?4 GROUP BY p.id",
         )?;
-        let mut rows = q.query(params![sweep_id, version, k])?;
+        let mut rows = q.query(params![sweep_id, version, k, Done])?;
         while let Some(r) = rows.next()? {
             if let Some(&i) = at.get(&r.get::<_, i64>(0)?) {
                 out[i].free_speed = r.get(1)?;
@@ -335,15 +336,15 @@ impl Store {
             "SELECT 'prep', pr.id, MIN(p.alpha), MIN(p.beta), MIN(p.L), MIN(p.sigma), NULL,
                     pr.attempts, COALESCE(pr.error, '')
              FROM preps pr JOIN jobs j ON j.prep_id = pr.id JOIN points p ON p.id = j.point_id
-             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND pr.state = 'failed'
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND pr.state = ?3
              GROUP BY pr.id
              UNION ALL
              SELECT 'job', j.id, p.alpha, p.beta, p.L, p.sigma, j.replicate, j.attempts,
                     COALESCE(j.error, '')
              FROM jobs j JOIN points p ON p.id = j.point_id
-             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'failed'",
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = ?3",
         )?;
-        let rows = q.query_map(params![sweep_id, version], |r| {
+        let rows = q.query_map(params![sweep_id, version, Failed], |r| {
             Ok(Failure {
                 kind: r.get(0)?,
                 id: r.get(1)?,
@@ -374,8 +375,8 @@ impl Store {
     pub fn measured_cost(&self, version: &str) -> Result<MeasuredCost> {
         let (prep_s, preps) = self.conn.query_row(
             "SELECT AVG(wall_s), COUNT(*) FROM preps
-             WHERE state = 'done' AND solver_version = ?1 AND wall_s > 0",
-            [version],
+             WHERE state = ?2 AND solver_version = ?1 AND wall_s > 0",
+            params![version, Done],
             |r| Ok((r.get(0)?, r.get(1)?)),
         )?;
         let (collision_s, collisions) = self.conn.query_row(

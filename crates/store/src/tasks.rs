@@ -62,10 +62,10 @@ impl Store {
         let mut q = self.conn.prepare(
             "SELECT j.id, j.point_id, j.replicate, j.seed, j.prep_id, j.attempts, p.params
              FROM jobs j JOIN points p ON p.id = j.point_id
-             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = 'pending'
+             WHERE p.sweep_id = ?1 AND j.solver_version = ?2 AND j.state = ?3
              ORDER BY p.idx, j.replicate",
         )?;
-        let mut rows = q.query(params![sweep_id, version])?;
+        let mut rows = q.query(params![sweep_id, version, JobState::Pending])?;
         let mut out = Vec::new();
         let mut config: Option<(i64, Arc<str>)> = None;
         while let Some(r) = rows.next()? {

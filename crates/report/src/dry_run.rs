@@ -7,7 +7,7 @@ use std::path::Path;
 use cellsweep_scheduler::cost::{unit_costs, CostBasis, UnitCosts};
 use cellsweep_scheduler::{plan, Ledger, RunError, Sweep};
 use cellsweep_solver::SOLVER_VERSION;
-use cellsweep_store::{Store, StoreError};
+use cellsweep_store::{NewSweep, Store, StoreError};
 
 use crate::text::counted;
 
@@ -37,51 +37,9 @@ pub fn text(
     workers: usize,
 ) -> Result<String, DryRunError> {
     let new = plan(sweep, &source.display().to_string());
-    let points = new.points.len();
     let first: usize = new.points.iter().map(|p| p.jobs.len()).sum();
-    let budget = points * sweep.replicates as usize;
     let mut out = format!("dry run of {:?} (nothing is written):\n", sweep.name);
-    let _ = match &sweep.adaptive {
-        Some(a) => writeln!(
-            out,
-            "  {points} points, {} preps; adaptive: {} replicates per point first, {} more per \
-             round until settled (error {:?}), at most {}: {first} jobs in the first round, at most \
-             {budget}",
-            new.preps.len(),
-            a.min_replicates,
-            a.batch,
-            a.error,
-            a.max_replicates
-        ),
-        None => writeln!(
-            out,
-            "  {} x {} = {}, {}",
-            counted(points, "point"),
-            counted(sweep.replicates as usize, "replicate"),
-            counted(budget, "job"),
-            counted(new.preps.len(), "prep")
-        ),
-    };
-    if let Some(r) = &sweep.refine {
-        let most = sweep.max_added_points();
-        let _ = writeln!(
-            out,
-            "  refine: up to {} beta values per column ({most} points, at most {} more jobs and \
-             {most} more preps), added in rounds of {} once a column is finished, until its \
-             interval of beta* is at most {} wide",
-            r.max_new_per_column,
-            most * sweep.replicates as u64,
-            r.per_round,
-            r.width
-        );
-        if let (Some(to), Some(spacing)) = (r.extend_to, r.extend_step) {
-            let _ = writeln!(
-                out,
-                "  extension: a column open at its top (no crossing below the grid's last beta) \
-                 takes values {spacing} apart above it, up to beta {to}"
-            );
-        }
-    }
+    shape(&mut out, sweep, &new);
     let store = match db.exists() {
         true => Some(Store::open_read(db)?),
         false => None,
@@ -127,28 +85,91 @@ pub fn text(
         hours(total / workers.max(1) as f64),
         counted(workers, "worker")
     );
-    if let (Some(rule), Some(store)) = (&sweep.refine, &store) {
-        if let Ok(id) = store.sweep_id(&sweep.name) {
-            let ledger = Ledger::load(store, id, SOLVER_VERSION)?;
-            let columns = ledger.refine_standing(store, rule)?;
-            let (lines, next) = crate::status::refinement::lines(&columns, rule, "    ");
-            let _ = writeln!(out, "  refine now: {}", lines.join("\n"));
-            let jobs = next.values as f64 * f64::from(sweep.initial_replicates());
-            let cost = next.values as f64 * prep_s + jobs * collision_s;
-            let _ = writeln!(
-                out,
-                "  the next round of refinement: {} new points, {jobs} collisions in their first \
-                 round and {} preps: {:.2} core-hours (their adaptive rounds follow)",
-                next.values,
-                next.values,
-                cost / 3600.0
-            );
-            for column in &next.list {
-                let _ = writeln!(out, "    {column}");
-            }
-        }
+    if let Some(store) = &store {
+        refine_now(&mut out, sweep, store, prep_s, collision_s)?;
     }
     Ok(out)
+}
+
+/// The sweep's points, replicates, jobs and preps, and its adaptive and refinement rules,
+/// written to `out`.
+fn shape(out: &mut String, sweep: &Sweep, new: &NewSweep) {
+    let points = new.points.len();
+    let first: usize = new.points.iter().map(|p| p.jobs.len()).sum();
+    let budget = points * sweep.replicates as usize;
+    let _ = match &sweep.adaptive {
+        Some(a) => writeln!(
+            out,
+            "  {points} points, {} preps; adaptive: {} replicates per point first, {} more per \
+             round until settled (error {:?}), at most {}: {first} jobs in the first round, at most \
+             {budget}",
+            new.preps.len(),
+            a.min_replicates,
+            a.batch,
+            a.error,
+            a.max_replicates
+        ),
+        None => writeln!(
+            out,
+            "  {} x {} = {}, {}",
+            counted(points, "point"),
+            counted(sweep.replicates as usize, "replicate"),
+            counted(budget, "job"),
+            counted(new.preps.len(), "prep")
+        ),
+    };
+    if let Some(r) = &sweep.refine {
+        let most = sweep.max_added_points();
+        let _ = writeln!(
+            out,
+            "  refine: up to {} beta values per column ({most} points, at most {} more jobs and \
+             {most} more preps), added in rounds of {} once a column is finished, until its \
+             interval of beta* is at most {} wide",
+            r.max_new_per_column,
+            most * sweep.replicates as u64,
+            r.per_round,
+            r.width
+        );
+        if let (Some(to), Some(spacing)) = (r.extend_to, r.extend_step) {
+            let _ = writeln!(
+                out,
+                "  extension: a column open at its top (no crossing below the grid's last beta) \
+                 takes values {spacing} apart above it, up to beta {to}"
+            );
+        }
+    }
+}
+
+/// Where the store's columns stand under the sweep's refinement rule, and what its next round
+/// would add and cost, written to `out` (nothing for a sweep without one, or not registered).
+fn refine_now(
+    out: &mut String,
+    sweep: &Sweep,
+    store: &Store,
+    prep_s: f64,
+    collision_s: f64,
+) -> Result<(), DryRunError> {
+    let (Some(rule), Ok(id)) = (&sweep.refine, store.sweep_id(&sweep.name)) else {
+        return Ok(());
+    };
+    let ledger = Ledger::load(store, id, SOLVER_VERSION)?;
+    let columns = ledger.refine_standing(store, rule)?;
+    let (lines, next) = crate::status::refinement::lines(&columns, rule, "    ");
+    let _ = writeln!(out, "  refine now: {}", lines.join("\n"));
+    let jobs = next.values as f64 * f64::from(sweep.initial_replicates());
+    let cost = next.values as f64 * prep_s + jobs * collision_s;
+    let _ = writeln!(
+        out,
+        "  the next round of refinement: {} new points, {jobs} collisions in their first \
+         round and {} preps: {:.2} core-hours (their adaptive rounds follow)",
+        next.values,
+        next.values,
+        cost / 3600.0
+    );
+    for column in &next.list {
+        let _ = writeln!(out, "    {column}");
+    }
+    Ok(())
 }
 
 /// What the store holds of the sweep, written to `out`: the jobs and preps left to run, or
